@@ -1,0 +1,14 @@
+#pragma once
+
+/// @file Commands.hpp
+/// Registration of the `conftrack` subcommands. Each adds itself to the
+/// CLI11 application and sets a callback that does the work; errors are
+/// reported by exceptions (InputError: exit code 1, others: 2).
+
+#include <CLI/CLI.hpp>
+
+namespace conftrack::cli {
+
+void addDetectorCommand(CLI::App& app);
+
+}  // namespace conftrack::cli

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages conftrack needs, only those missing.
+# Called by `make run` and `make test`; safe to run by hand.
+set -euo pipefail
+
+packages=(
+  g++ cmake make pkg-config
+  libeigen3-dev libtbb-dev libnanoflann-dev libcli11-dev
+  libtomlplusplus-dev nlohmann-json3-dev libboost-dev libhepmc3-dev
+  zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-matplotlib python3-numpy
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "conftrack: installing missing Debian packages: ${missing[*]}" >&2
+if [ "$(id -u)" -eq 0 ]; then
+  sudo=()
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+  sudo=(sudo -n)
+else
+  echo "conftrack: cannot install ${missing[*]}: not root and no password-less sudo." >&2
+  echo "conftrack: install them with: sudo apt-get install ${missing[*]}" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+if ! "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"; then
+  "${sudo[@]}" apt-get update -q
+  "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}" || {
+    echo "conftrack: apt-get install failed for: ${missing[*]}" >&2
+    exit 1
+  }
+fi
