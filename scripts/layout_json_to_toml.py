@@ -96,7 +96,7 @@ def main(path, short):
     for c in d["passive_cylinders"]:
         w("")
         w("[[passive.cylinder]]")
-        w(f'name = "{c["name"].split(" (")[0]}"')
+        w(f'name = "{c["name"].split(" (")[0].replace(" ", "_")}"')
         w(f"r_mm = {fmt(c['r_mm'])}")
         if "z_min_mm" in c:
             w(f"z_min_mm = {fmt(c['z_min_mm'])}")
@@ -105,7 +105,7 @@ def main(path, short):
     for c in d["passive_disks"]:
         w("")
         w("[[passive.disk]]")
-        w(f'name = "{c["name"].split(" (")[0]}"')
+        w(f'name = "{c["name"].split(" (")[0].replace(" ", "_")}"')
         w(f"z_mm = {fmt(c['z_mm'])}")
         w(f"r_min_mm = {fmt(c['r_min_mm'])}")
         w(f"r_max_mm = {fmt(c['r_max_mm'])}")
