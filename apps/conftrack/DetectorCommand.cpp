@@ -1,11 +1,12 @@
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "Commands.hpp"
-#include "conftrack/core/Units.hpp"
-#include "conftrack/geometry/DetectorReader.hpp"
 
 namespace conftrack::cli {
 
@@ -43,10 +44,9 @@ void printDetector(const Detector& det) {
               det.envelopeR() / mm, det.envelopeZ() / mm);
   std::printf("\nSensitive layers (%zu; endcap disks listed per side)\n",
               det.layers().size());
-  std::printf("%-20s %-20s %4s %5s %9s %9s %9s %9s %7s %7s %7s %8s\n",
-              "name", "subdetector", "side", "layer", "r[mm]", "z[mm]",
-              "rmin[mm]", "rmax[mm]", "X/X0[%]", "su[um]", "sv[um]",
-              "trackml");
+  std::printf("%-20s %-20s %4s %5s %9s %9s %9s %9s %7s %7s %7s %8s\n", "name",
+              "subdetector", "side", "layer", "r[mm]", "z[mm]", "rmin[mm]",
+              "rmax[mm]", "X/X0[%]", "su[um]", "sv[um]", "trackml");
   for (const Subdetector& sub : det.subdetectors()) {
     for (std::uint32_t li : sub.layers) {
       const SensitiveLayer& l = det.layers()[li];
@@ -76,8 +76,8 @@ void printDetector(const Detector& det) {
     double r1 = p.shape == SurfaceShape::eCone ? p.coneR1 : p.rMin;
     double r2 = p.shape == SurfaceShape::eCone ? p.coneR2 : p.rMax;
     std::printf("%-44s %-8s %9.2f %9.2f %9.2f %9.2f %7.3f\n", p.name.c_str(),
-                shapeName(p.shape), p.zMin / mm, p.zMax / mm, r1 / mm,
-                r2 / mm, 100.0 * p.thicknessX0);
+                shapeName(p.shape), p.zMin / mm, p.zMax / mm, r1 / mm, r2 / mm,
+                100.0 * p.thicknessX0);
   }
 }
 
@@ -87,8 +87,8 @@ void addDetectorCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("detector", "Detector descriptions");
   cmd->require_subcommand(1);
   auto name = std::make_shared<std::string>();
-  CLI::App* show = cmd->add_subcommand(
-      "show", "Print the layout of a detector as a table");
+  CLI::App* show =
+      cmd->add_subcommand("show", "Print the layout of a detector as a table");
   show->add_option("detector", *name,
                    "Shipped detector name (clicdet, cld, ...) or TOML path")
       ->required();

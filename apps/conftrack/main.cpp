@@ -1,14 +1,15 @@
 /// conftrack: conformal tracking for all-silicon trackers.
 /// Exit codes: 0 success, 1 bad input or usage, 2 internal error.
 
-#include <exception>
-#include <iostream>
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/Log.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <exception>
+#include <iostream>
+
 #include "Commands.hpp"
-#include "conftrack/core/Error.hpp"
-#include "conftrack/core/Log.hpp"
 
 int main(int argc, char** argv) {
   using namespace conftrack;

@@ -1,10 +1,10 @@
 #define TOML_IMPLEMENTATION
 #include "conftrack/core/ConfigTable.hpp"
 
+#include "conftrack/core/Error.hpp"
+
 #include <cmath>
 #include <sstream>
-
-#include "conftrack/core/Error.hpp"
 
 namespace conftrack {
 
@@ -13,9 +13,9 @@ std::shared_ptr<toml::table> ConfigTable::parse(std::string_view text,
   try {
     return std::make_shared<toml::table>(toml::parse(text, file));
   } catch (const toml::parse_error& e) {
-    throw InputError(location(file, e.source().begin.line),
-                     std::string("TOML syntax: ") +
-                         std::string(e.description()));
+    throw InputError(
+        location(file, e.source().begin.line),
+        std::string("TOML syntax: ") + std::string(e.description()));
   }
 }
 

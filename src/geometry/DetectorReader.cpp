@@ -1,14 +1,14 @@
 #include "conftrack/geometry/DetectorReader.hpp"
 
+#include "conftrack/core/ConfigTable.hpp"
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
-
-#include "conftrack/core/ConfigTable.hpp"
-#include "conftrack/core/Error.hpp"
-#include "conftrack/core/Units.hpp"
 
 namespace conftrack {
 
@@ -34,10 +34,8 @@ class Builder {
     std::string name = det.getString("name");
     std::string model = det.getString("model", name);
     double bz = det.getDouble("bz_T", Range::positive()) * units::T;
-    m_envelopeR =
-        det.getDouble("envelope_r_mm", Range::positive()) * units::mm;
-    m_envelopeZ =
-        det.getDouble("envelope_z_mm", Range::positive()) * units::mm;
+    m_envelopeR = det.getDouble("envelope_r_mm", Range::positive()) * units::mm;
+    m_envelopeZ = det.getDouble("envelope_z_mm", Range::positive()) * units::mm;
     det.rejectUnknownKeys();
 
     std::vector<ConfigTable> subs = m_root.getTableArray("subdetector");
@@ -90,8 +88,7 @@ class Builder {
     } else if (kind == "endcap") {
       sub.kind = SubdetectorKind::eEndcap;
     } else {
-      t.fail("kind", "expected \"barrel\" or \"endcap\", got \"" + kind +
-                         "\"");
+      t.fail("kind", "expected \"barrel\" or \"endcap\", got \"" + kind + "\"");
     }
     bool barrel = sub.kind == SubdetectorKind::eBarrel;
     std::uint32_t volNeg = 0;
@@ -102,8 +99,8 @@ class Builder {
           t.getInt("trackml_volume", nextVolume, Range::positive()));
       nextVolume = std::max(nextVolume, volBarrel + 1);
     } else if (t.has("trackml_volumes")) {
-      std::vector<double> v = t.getDoubleArray("trackml_volumes",
-                                               Range::positive());
+      std::vector<double> v =
+          t.getDoubleArray("trackml_volumes", Range::positive());
       if (v.size() != 2 || v[0] != std::floor(v[0]) ||
           v[1] != std::floor(v[1]) || v[0] == v[1]) {
         t.fail("trackml_volumes",
@@ -132,12 +129,12 @@ class Builder {
       claimName(l, layer.name);
       layer.id.subdetector = index;
       layer.id.layer = static_cast<std::uint16_t>(i);
-      layer.trackmlLayer = static_cast<std::uint32_t>(l.getInt(
-          "trackml_layer", static_cast<std::int64_t>(2 * (i + 1)),
-          Range::positive()));
+      layer.trackmlLayer = static_cast<std::uint32_t>(
+          l.getInt("trackml_layer", static_cast<std::int64_t>(2 * (i + 1)),
+                   Range::positive()));
       layer.thicknessX0 = l.getDouble("x_over_x0", kX0Range);
-      layer.sigmaU = l.getDouble("sigma_rphi_um", Range::positive()) *
-                     units::um;
+      layer.sigmaU =
+          l.getDouble("sigma_rphi_um", Range::positive()) * units::um;
       layer.nPhiModules = static_cast<std::uint32_t>(
           l.getInt("n_phi_modules", 1, Range::closed(1, 1e6)));
       if (barrel) {
@@ -147,8 +144,7 @@ class Builder {
         layer.zMin = -halfZ;
         layer.zMax = halfZ;
         layer.rMin = layer.rMax = layer.r;
-        layer.sigmaV = l.getDouble("sigma_z_um", Range::positive()) *
-                       units::um;
+        layer.sigmaV = l.getDouble("sigma_z_um", Range::positive()) * units::um;
         layer.nZModules = static_cast<std::uint32_t>(
             l.getInt("n_z_modules", 1, Range::closed(1, 1e6)));
         layer.trackmlVolume = volBarrel;
@@ -166,8 +162,7 @@ class Builder {
         if (!(layer.rMax > layer.rMin)) {
           l.fail("r_max_mm", "must be larger than r_min_mm");
         }
-        layer.sigmaV = l.getDouble("sigma_r_um", Range::positive()) *
-                       units::um;
+        layer.sigmaV = l.getDouble("sigma_r_um", Range::positive()) * units::um;
         layer.nZModules = static_cast<std::uint32_t>(
             l.getInt("n_rings", 1, Range::closed(1, 1e6)));
         checkInside(l, "z_mm", layer.rMax, z);
@@ -190,8 +185,7 @@ class Builder {
     }
     for (SensitiveLayer& pos : positive) {
       sub.layers.push_back(static_cast<std::uint32_t>(m_layers.size()));
-      m_layerTables.push_back(m_layerTables[sub.layers.front() +
-                                            pos.id.layer]);
+      m_layerTables.push_back(m_layerTables[sub.layers.front() + pos.id.layer]);
       m_layers.push_back(std::move(pos));
     }
     t.rejectUnknownKeys();
@@ -201,8 +195,9 @@ class Builder {
   void checkInside(const ConfigTable& t, std::string_view key, double r,
                    double z) const {
     if (r > m_envelopeR || z > m_envelopeZ) {
-      t.fail(key, "outside the tracker envelope (envelope_r_mm, "
-                  "envelope_z_mm)");
+      t.fail(key,
+             "outside the tracker envelope (envelope_r_mm, "
+             "envelope_z_mm)");
     }
   }
 
@@ -305,8 +300,8 @@ class Builder {
           overlap = std::abs(a.r - b.r) < kMinimumGap && a.zMin < b.zMax &&
                     b.zMin < a.zMax;
         } else if (a.isDisk() && b.isDisk()) {
-          overlap = std::abs(a.z() - b.z()) < kMinimumGap &&
-                    a.rMin < b.rMax && b.rMin < a.rMax;
+          overlap = std::abs(a.z() - b.z()) < kMinimumGap && a.rMin < b.rMax &&
+                    b.rMin < a.rMax;
         } else {
           const SensitiveLayer& cyl = a.isDisk() ? b : a;
           const SensitiveLayer& disk = a.isDisk() ? a : b;
@@ -316,9 +311,8 @@ class Builder {
                     cyl.r < disk.rMax + kMinimumGap;
         }
         if (overlap) {
-          m_layerTables[j].fail("name", "layer '" + b.name +
-                                            "' overlaps layer '" + a.name +
-                                            "'");
+          m_layerTables[j].fail(
+              "name", "layer '" + b.name + "' overlaps layer '" + a.name + "'");
         }
       }
     }
@@ -360,7 +354,8 @@ std::filesystem::path resolveDetectorPath(const std::string& nameOrPath) {
     return asPath;
   }
   const char* env = std::getenv("CONFTRACK_DATA_DIR");
-  fs::path dataDir = env != nullptr ? fs::path(env) : fs::path(CONFTRACK_DATA_DIR);
+  fs::path dataDir =
+      env != nullptr ? fs::path(env) : fs::path(CONFTRACK_DATA_DIR);
   fs::path candidate = dataDir / "detectors" / (nameOrPath + ".toml");
   if (!fs::exists(candidate)) {
     throw InputError("detector '" + nameOrPath +

@@ -5,6 +5,8 @@
 /// chains, generators): typed getters with range checks, one-line errors
 /// "file:line: key 'a.b': problem", and rejection of unknown keys.
 
+#include <toml++/toml.h>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -12,8 +14,6 @@
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <toml++/toml.h>
 
 namespace conftrack {
 
@@ -77,8 +77,7 @@ class ConfigTable {
 
  private:
   const toml::node& require(std::string_view key) const;
-  void checkRange(std::string_view key, double value,
-                  const Range& range) const;
+  void checkRange(std::string_view key, double value, const Range& range) const;
 
   const toml::table* m_table;
   std::string m_file;

@@ -3,11 +3,11 @@
 /// @file Event.hpp
 /// All data of one event: hits, optional truth, particles.
 
-#include <cstdint>
-#include <vector>
-
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Particle.hpp"
+
+#include <cstdint>
+#include <vector>
 
 namespace conftrack {
 

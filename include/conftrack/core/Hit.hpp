@@ -3,10 +3,10 @@
 /// @file Hit.hpp
 /// A reconstructed (measured) hit.
 
-#include <cstdint>
-
 #include "conftrack/core/DetectorId.hpp"
 #include "conftrack/core/Types.hpp"
+
+#include <cstdint>
 
 namespace conftrack {
 

@@ -20,14 +20,14 @@ void write(Level level, const std::string& message);
 
 }  // namespace conftrack::log
 
-#define CONFTRACK_LOG(lvl, expr)                                  \
-  do {                                                            \
-    if (static_cast<int>(lvl) >=                                  \
-        static_cast<int>(::conftrack::log::level())) {            \
-      std::ostringstream conftrack_log_os_;                       \
-      conftrack_log_os_ << expr;                                  \
-      ::conftrack::log::write((lvl), conftrack_log_os_.str());    \
-    }                                                             \
+#define CONFTRACK_LOG(lvl, expr)                               \
+  do {                                                         \
+    if (static_cast<int>(lvl) >=                               \
+        static_cast<int>(::conftrack::log::level())) {         \
+      std::ostringstream conftrack_log_os_;                    \
+      conftrack_log_os_ << expr;                               \
+      ::conftrack::log::write((lvl), conftrack_log_os_.str()); \
+    }                                                          \
   } while (false)
 #define CONFTRACK_DEBUG(expr) \
   CONFTRACK_LOG(::conftrack::log::Level::eDebug, expr)

@@ -3,16 +3,17 @@
 /// @file Particle.hpp
 /// A generated (true) particle.
 
-#include <cstdint>
-
 #include "conftrack/core/Types.hpp"
+
+#include <cstdint>
 
 namespace conftrack {
 
 /// Where a particle comes from.
 enum class ParticleOrigin : std::uint8_t {
-  eSignal = 0,      ///< the physics event
-  eBackground = 1,  ///< an overlaid background event (e.g. gamma gamma -> hadrons)
+  eSignal = 0,  ///< the physics event
+  eBackground =
+      1,  ///< an overlaid background event (e.g. gamma gamma -> hadrons)
 };
 
 /// A true particle as produced by a generator or read from a file.

@@ -39,8 +39,7 @@ constexpr std::uint64_t deriveSeed(std::uint64_t runSeed,
 }
 
 /// A fresh engine for (runSeed, eventNumber, stream).
-inline RandomEngine makeEngine(std::uint64_t runSeed,
-                               std::uint64_t eventNumber,
+inline RandomEngine makeEngine(std::uint64_t runSeed, std::uint64_t eventNumber,
                                RandomStream stream) {
   std::seed_seq seq{deriveSeed(runSeed, eventNumber, stream)};
   return RandomEngine(seq);

@@ -3,10 +3,10 @@
 /// @file Types.hpp
 /// Fixed-size linear-algebra types and small index types used everywhere.
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <limits>
-
-#include <Eigen/Core>
 
 namespace conftrack {
 

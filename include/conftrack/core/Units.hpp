@@ -40,8 +40,8 @@ namespace constants {
 inline constexpr double c = 299.792458 * units::mm / units::ns;
 /// pT = kPtPerTeslaMm * |q| * B * R: the momentum-radius relation for a unit
 /// charge (0.299792458 GeV/(T m), here per mm). physics.md section 1.
-inline constexpr double kPtPerTeslaMm = 0.299792458e-3 * units::GeV /
-                                        (units::T * units::mm);
+inline constexpr double kPtPerTeslaMm =
+    0.299792458e-3 * units::GeV / (units::T * units::mm);
 
 // Particle masses (PDG).
 inline constexpr double kElectronMass = 0.51099895 * units::MeV;

@@ -4,14 +4,14 @@
 /// A tracker made of barrel layers and endcap disks in a uniform solenoid
 /// field, with passive material. Read from TOML (DetectorReader.hpp).
 
+#include "conftrack/core/DetectorId.hpp"
+#include "conftrack/geometry/Surfaces.hpp"
+
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include "conftrack/core/DetectorId.hpp"
-#include "conftrack/geometry/Surfaces.hpp"
 
 namespace conftrack {
 
@@ -34,9 +34,8 @@ class Detector {
  public:
   /// Builds and indexes a detector. Layer ids must be consistent with the
   /// subdetector list (DetectorReader guarantees it).
-  Detector(std::string name, std::string model, double bz,
-           double envelopeR, double envelopeZ,
-           std::vector<Subdetector> subdetectors,
+  Detector(std::string name, std::string model, double bz, double envelopeR,
+           double envelopeZ, std::vector<Subdetector> subdetectors,
            std::vector<SensitiveLayer> layers,
            std::vector<PassiveSurface> passives);
 

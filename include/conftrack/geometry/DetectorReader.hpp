@@ -3,10 +3,10 @@
 /// @file DetectorReader.hpp
 /// Reads a Detector from a TOML file (format: README "Detector files").
 
+#include "conftrack/geometry/Detector.hpp"
+
 #include <filesystem>
 #include <string>
-
-#include "conftrack/geometry/Detector.hpp"
 
 namespace conftrack {
 

@@ -4,11 +4,11 @@
 /// The surface types of a conftrack detector: sensitive layers (cylinders
 /// and disks) and passive material (cylinders, disks, cones).
 
-#include <cstdint>
-#include <string>
-
 #include "conftrack/core/DetectorId.hpp"
 #include "conftrack/core/Types.hpp"
+
+#include <cstdint>
+#include <string>
 
 namespace conftrack {
 
@@ -61,8 +61,7 @@ struct SensitiveLayer {
   std::uint32_t moduleAt(const Vector3& position) const;
   /// Local measurement axes (u, v) at a point on this layer:
   /// barrel u = phi direction, v = z; disk u = phi direction, v = radial.
-  void localAxes(const Vector3& position, Vector3& uAxis,
-                 Vector3& vAxis) const;
+  void localAxes(const Vector3& position, Vector3& uAxis, Vector3& vAxis) const;
 };
 
 /// A passive material surface (beam pipe, support, cables).
