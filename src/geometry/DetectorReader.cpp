@@ -1,12 +1,11 @@
 #include "conftrack/geometry/DetectorReader.hpp"
 
 #include "conftrack/core/ConfigTable.hpp"
+#include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Units.hpp"
 
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -337,32 +336,11 @@ Detector parseDetector(std::string_view text, const std::string& sourceName) {
 }
 
 Detector readDetector(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) {
-    throw InputError(file.string(), "cannot open detector file");
-  }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parseDetector(buffer.str(), file.string());
+  return parseDetector(readTextFile(file, "detector"), file.string());
 }
 
 std::filesystem::path resolveDetectorPath(const std::string& nameOrPath) {
-  namespace fs = std::filesystem;
-  fs::path asPath(nameOrPath);
-  if (nameOrPath.find('/') != std::string::npos ||
-      asPath.extension() == ".toml") {
-    return asPath;
-  }
-  const char* env = std::getenv("CONFTRACK_DATA_DIR");
-  fs::path dataDir =
-      env != nullptr ? fs::path(env) : fs::path(CONFTRACK_DATA_DIR);
-  fs::path candidate = dataDir / "detectors" / (nameOrPath + ".toml");
-  if (!fs::exists(candidate)) {
-    throw InputError("detector '" + nameOrPath +
-                     "': no such shipped detector (looked for " +
-                     candidate.string() + "); give a path to a TOML file");
-  }
-  return candidate;
+  return resolveShippedFile("detectors", nameOrPath, "detector");
 }
 
 Detector loadDetector(const std::string& nameOrPath) {

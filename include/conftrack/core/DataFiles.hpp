@@ -1,0 +1,24 @@
+#pragma once
+
+/// @file DataFiles.hpp
+/// Locating shipped data files (detectors/, chains/) and reading text files
+/// with one-line errors.
+
+#include <filesystem>
+#include <string>
+
+namespace conftrack {
+
+/// Resolves `nameOrPath`: a path (contains '/' or ends in .toml) is
+/// returned as is; a bare name is looked up as <data>/<folder>/<name>.toml,
+/// with <data> from the CONFTRACK_DATA_DIR environment variable or the
+/// source tree. `what` ("detector", "chain") names it in errors.
+std::filesystem::path resolveShippedFile(const std::string& folder,
+                                         const std::string& nameOrPath,
+                                         const std::string& what);
+
+/// Reads a whole text file; InputError "file: cannot open <what> file".
+std::string readTextFile(const std::filesystem::path& file,
+                         const std::string& what);
+
+}  // namespace conftrack

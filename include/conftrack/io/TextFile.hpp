@@ -1,0 +1,34 @@
+#pragma once
+
+/// @file TextFile.hpp
+/// Whole-file reading and writing of text, transparently gzip-compressed.
+///
+/// Event files are read in one go (a TrackML hits file is a few MB) so that
+/// parsing runs over one contiguous buffer instead of a stream.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace conftrack {
+
+/// Reads a whole file into memory. A file starting with the gzip magic bytes
+/// (1f 8b) is decompressed, whatever its name; several concatenated gzip
+/// members are supported (as `zcat` does).
+///
+/// Throws InputError "file: problem" if the file cannot be opened or read,
+/// if the gzip data is corrupt, truncated ("unexpected end of file") or
+/// followed by trailing garbage.
+std::string readTextFile(const std::filesystem::path& file);
+
+/// Writes `text` to `file`, gzip-compressed with `gzipLevel` (1 fastest to 9
+/// smallest) if `gzip` is true. The data go to a temporary file in the same
+/// folder that is renamed at the end, so readers never see a half-written
+/// file. Throws InputError if the file cannot be written.
+void writeTextFile(const std::filesystem::path& file, std::string_view text,
+                   bool gzip, int gzipLevel = 6);
+
+/// True if `file` ends in ".gz" (the writers' rule to choose compression).
+bool hasGzipExtension(const std::filesystem::path& file);
+
+}  // namespace conftrack

@@ -1,0 +1,64 @@
+#pragma once
+
+/// @file TrackmlReader.hpp
+/// Reads events in the TrackML CSV format with conftrack's extra columns
+/// (TrackmlFormat.hpp, docs/formats.md).
+///
+/// Files may be plain or gzip-compressed (detected by content). Columns are
+/// found by header name; unknown columns are ignored. Any problem throws a
+/// one-line InputError "file:line: problem".
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "conftrack/core/Event.hpp"
+#include "conftrack/core/Hit.hpp"
+#include "conftrack/core/Particle.hpp"
+
+namespace conftrack {
+
+class Detector;
+
+/// What readEvent reads besides the hits.
+struct ReadOptions {
+  /// Read the truth file if it exists.
+  bool truth = true;
+  /// Read the particles file if it exists.
+  bool particles = true;
+};
+
+/// Reads a hits file, in file order.
+///
+/// With a detector, (volume_id, layer_id) must name one of its layers and
+/// module_id must be within the layer's segmentation; detId, the local axes
+/// (SensitiveLayer::localAxes) and, where the sigma_u/sigma_v columns are
+/// absent, the resolutions come from the layer. Without one (nullptr) the
+/// ids are taken raw (TrackmlIds.hpp), the axes keep their defaults and
+/// missing resolutions are 0.
+///
+/// Errors: missing columns, bad numbers, NaN/inf, negative resolutions,
+/// unknown layers, duplicate hit ids, and hits with x = y = 0 (on the z
+/// axis, where conformal coordinates are undefined).
+std::vector<Hit> readHits(const std::filesystem::path& file,
+                          const Detector* detector);
+
+/// Reads a truth file; returns the truth parallel to `hits`.
+///
+/// The file must have exactly one row per hit, in any order: rows for an
+/// unknown hit id, duplicate rows and hits without a row are errors.
+std::vector<HitTruth> readTruth(const std::filesystem::path& file,
+                                const std::vector<Hit>& hits);
+
+/// Reads a particles file, in the full TrackML format or the Kaggle format
+/// without particle_type; returns the particles sorted by id. Particle id 0
+/// (reserved for noise) and duplicate ids are errors.
+std::vector<Particle> readParticles(const std::filesystem::path& file);
+
+/// Reads event `eventNumber` from `dir`: the hits file (required) and, if
+/// they exist and `options` asks for them, the truth and particles files.
+/// See readHits for the role of `detector`.
+Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,
+                const Detector* detector, const ReadOptions& options = {});
+
+}  // namespace conftrack

@@ -1,0 +1,68 @@
+#pragma once
+
+/// @file ConformalHits.hpp
+/// Hits prepared for conformal tracking: conformal coordinates, their
+/// errors, and the layer identity, in a structure of arrays.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "conftrack/core/Hit.hpp"
+#include "conftrack/core/Types.hpp"
+#include "conftrack/geometry/Detector.hpp"
+
+namespace conftrack {
+
+/// Internal index of a conformal hit (position in ConformalHits).
+using ConfIndex = std::uint32_t;
+
+/// The hits of one event in conformal representation.
+///
+/// Hits are stored sorted by (conformal radius descending, hit id), i.e.
+/// innermost real radius first, which makes every later loop independent of
+/// the input order. `original[i]` maps back to the event's HitIndex.
+///
+/// Conformal errors are propagated with the Jacobian of the mapping
+/// u = x/R^2, v = y/R^2 (algorithm.md 2.1, suggested improvement): a
+/// tangential displacement d maps to d/R^2 along the tangential direction,
+/// a radial one to d/R^2 along the radial direction (with opposite sign,
+/// irrelevant for variances).
+struct ConformalHits {
+  std::vector<HitIndex> original;  ///< index into the event's hits
+  std::vector<std::uint64_t> id;   ///< stable hit id (tie-breaks)
+  std::vector<double> x, y, z;     ///< global position [mm]
+  std::vector<double> radius;      ///< R = sqrt(x^2 + y^2) [mm]
+  std::vector<double> u, v;        ///< conformal coordinates [1/mm]
+  std::vector<double> rc;          ///< conformal radius 1/R [1/mm]
+  std::vector<double> phi;         ///< azimuth atan2(y, x) in (-pi, pi]
+  std::vector<double> varT;        ///< tangential variance, conformal
+  std::vector<double> varR;        ///< radial variance, conformal
+  std::vector<double> varZ;        ///< z variance [mm^2] (0 on disks)
+  std::vector<double> varRxy;      ///< radial variance [mm^2] (0 barrel)
+  std::vector<std::uint32_t> layer;  ///< index into Detector::layers()
+  std::vector<std::uint16_t> subdetector;
+  std::vector<std::int8_t> side;   ///< -1, 0, +1
+  std::vector<std::uint32_t> module;
+
+  std::size_t size() const { return id.size(); }
+  /// True if both hits are on the same (subdetector, side, layer).
+  bool sameLayer(ConfIndex a, ConfIndex b) const {
+    return layer[a] == layer[b];
+  }
+  /// True if both hits are on the same sensor.
+  bool sameSensor(ConfIndex a, ConfIndex b) const {
+    return layer[a] == layer[b] && module[a] == module[b];
+  }
+  bool isEndcap(ConfIndex a) const { return side[a] != 0; }
+
+  /// Covariance of (u, v) of hit i.
+  Matrix2 covariance(ConfIndex i) const;
+};
+
+/// Builds the conformal representation. Throws InputError for a hit on the
+/// z axis or on a layer the detector does not have.
+ConformalHits makeConformalHits(std::span<const Hit> hits,
+                                const Detector& detector);
+
+}  // namespace conftrack

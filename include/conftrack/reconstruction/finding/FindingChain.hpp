@@ -1,0 +1,96 @@
+#pragma once
+
+/// @file FindingChain.hpp
+/// The configurable chain of conformal-tracking steps (algorithm.md 3, 12,
+/// 13) and its TOML reader (format: README "Chain files").
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "conftrack/geometry/Detector.hpp"
+
+namespace conftrack {
+
+/// Direction in which a step seeds and extends (upstream VertexToTracker).
+enum class SearchDirection : std::uint8_t {
+  eInsideOut,  ///< seed innermost, grow outwards (prompt tracks)
+  eOutsideIn,  ///< seed outermost, grow inwards (displaced tracks)
+};
+
+/// One step of the chain. Defaults are those of the CLICdet chain's first
+/// step (algorithm.md 13.1).
+struct FindingStep {
+  std::string name;
+  /// Subdetector indices whose hits form the step's pool; empty: reuse the
+  /// previous step's pool (upstream: no CombineCollections).
+  std::vector<std::uint16_t> collections;
+  /// Actions, run in this order when set.
+  bool build = false;   ///< BuildNewTracks
+  bool extend = false;  ///< ExtendTracks
+  bool sort = false;    ///< SortTracks by pT, descending
+  /// Maximum angle between consecutive cells in (u, v) [rad].
+  double maxCellAngle = 0.005;
+  /// Maximum angle between consecutive cells in (z, R) [rad].
+  double maxCellAngleRZ = 0.005;
+  /// Maximum chi2/ndf of a candidate (each of uv and sz), and maximum
+  /// increase of chi2/ndf when an extension adds a hit.
+  double chi2Cut = 100.0;
+  /// Minimum number of hits of a built candidate.
+  std::uint32_t minHits = 4;
+  /// Seeding disc radius, maximum seed-cell length, scale of the cell
+  /// extension window [1/mm] (the paper's "max cell length").
+  double maxDistance = 0.02;
+  /// Maximum |dz/dR| of a seed cell.
+  double slopeZRange = 10.0;
+  /// Tracks with pT estimate above this get the per-layer extension [GeV].
+  double highPtCut = 10.0;
+  /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).
+  bool straightLineFit = true;
+  /// Candidate chi2 cut on sz only (upstream OnlyZSchi2cut).
+  bool onlySzChi2Cut = false;
+  /// Seed with a disc in (u, v) instead of an azimuth window.
+  bool radialSearch = false;
+  SearchDirection direction = SearchDirection::eInsideOut;
+  /// Remove-one-hit-and-refit recovery of rejected candidates (paper 4.1.1;
+  /// never run upstream).
+  bool recovery = false;
+  /// Fit tracks of this step backwards first (upstream KalmanFitBackward).
+  bool fitBackward = false;
+};
+
+/// Settings of the whole finder plus its steps.
+struct FinderConfig {
+  std::vector<FindingStep> steps;
+  /// Azimuth window of non-radial seeding [rad] (upstream ThetaRange).
+  double thetaRange = 0.05;
+  /// Candidates sharing at least this many hits are clones.
+  std::uint32_t cloneSharedHits = 2;
+  /// Combinatorics guard (upstream TooManyTracks): at most this many
+  /// paths are enumerated per seed; the remaining leaf cells of the seed
+  /// get only their straightest path. Counted per event.
+  std::uint32_t maxPathsPerSeed = 2000;
+  /// At most this many cells per seed; growth stops there (counted).
+  std::uint32_t maxCellsPerSeed = 20000;
+  /// Half-width of the azimuth window around the predicted crossing on
+  /// each layer during extension [rad].
+  double extensionPhiWindow = 0.1;
+  /// Use upstream's hard-coded 4 T in the pT estimate (for comparisons
+  /// only; wrong for CLD).
+  bool legacyFourTesla = false;
+};
+
+/// Reads and validates a chain file against a detector. Throws InputError
+/// "file:line: key 'step[2].x': problem" for unknown keys, subdetectors the
+/// detector does not have and nonsense values.
+FinderConfig readChain(const std::filesystem::path& file,
+                       const Detector& detector);
+FinderConfig parseChain(std::string_view text, const std::string& sourceName,
+                        const Detector& detector);
+
+/// Resolves a chain argument: a path, or a shipped chain name ("clicdet")
+/// in the chains/ folder.
+std::filesystem::path resolveChainPath(const std::string& nameOrPath);
+
+}  // namespace conftrack

@@ -1,0 +1,148 @@
+#include "conftrack/io/CsvReader.hpp"
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/io/TextFile.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace conftrack {
+
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
+    s.remove_prefix(1);
+  }
+  while (!s.empty() &&
+         (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
+    s.remove_suffix(1);
+  }
+  return s;
+}
+
+/// Shortens long field text in messages so that they stay one line.
+std::string excerpt(std::string_view s) {
+  constexpr std::size_t kMax = 40;
+  if (s.size() <= kMax) {
+    return std::string(s);
+  }
+  return std::string(s.substr(0, kMax)) + "...";
+}
+
+}  // namespace
+
+CsvReader CsvReader::open(const std::filesystem::path& file) {
+  return CsvReader(readTextFile(file), file.string());
+}
+
+CsvReader::CsvReader(std::string text, std::string fileName)
+    : m_text(std::move(text)), m_file(std::move(fileName)) {
+  // A UTF-8 byte-order mark (spreadsheet exports) is not part of the header.
+  if (m_text.starts_with("\xEF\xBB\xBF")) {
+    m_pos = 3;
+  }
+  if (m_text.find('\0') != std::string::npos) {
+    throw InputError(location(m_file),
+                     "binary data (NUL byte) in a CSV file");
+  }
+  // The header is the first line; leading empty lines are not allowed since
+  // an empty file must be reported as such.
+  m_line = 0;
+  splitLine();
+  if (m_fields.size() == 1 && m_fields[0].empty()) {
+    throw InputError(location(m_file, 1), "no header line (empty file or empty first line)");
+  }
+  for (std::string_view name : m_fields) {
+    if (name.empty()) {
+      fail("empty column name in the header");
+    }
+    if (std::find(m_columns.begin(), m_columns.end(), name) !=
+        m_columns.end()) {
+      fail("duplicate column '" + std::string(name) + "' in the header");
+    }
+    m_columns.emplace_back(name);
+  }
+}
+
+std::optional<std::size_t> CsvReader::findColumn(std::string_view name) const {
+  auto it = std::find(m_columns.begin(), m_columns.end(), name);
+  if (it == m_columns.end()) {
+    return std::nullopt;
+  }
+  return static_cast<std::size_t>(it - m_columns.begin());
+}
+
+std::size_t CsvReader::requireColumn(std::string_view name) const {
+  if (auto i = findColumn(name)) {
+    return *i;
+  }
+  std::string header;
+  for (const std::string& c : m_columns) {
+    header += header.empty() ? "" : ",";
+    header += c;
+  }
+  throw InputError(location(m_file, 1), "missing required column '" +
+                                            std::string(name) +
+                                            "' (header: " + excerpt(header) +
+                                            ")");
+}
+
+std::size_t CsvReader::estimateRows() const {
+  return static_cast<std::size_t>(
+             std::count(m_text.begin() + m_pos, m_text.end(), '\n')) +
+         1;
+}
+
+void CsvReader::splitLine() {
+  ++m_line;
+  m_fields.clear();
+  const char* begin = m_text.data() + m_pos;
+  const char* end = m_text.data() + m_text.size();
+  const char* eol = static_cast<const char*>(
+      std::memchr(begin, '\n', static_cast<std::size_t>(end - begin)));
+  if (eol == nullptr) {
+    eol = end;
+  }
+  const char* fieldBegin = begin;
+  for (;;) {
+    const char* comma = static_cast<const char*>(std::memchr(
+        fieldBegin, ',', static_cast<std::size_t>(eol - fieldBegin)));
+    const char* fieldEnd = comma != nullptr ? comma : eol;
+    m_fields.push_back(trim(std::string_view(
+        fieldBegin, static_cast<std::size_t>(fieldEnd - fieldBegin))));
+    if (comma == nullptr) {
+      break;
+    }
+    fieldBegin = comma + 1;
+  }
+  m_pos = static_cast<std::size_t>(eol - m_text.data()) + (eol < end ? 1 : 0);
+}
+
+bool CsvReader::next() {
+  while (m_pos < m_text.size()) {
+    splitLine();
+    if (m_fields.size() == 1 && m_fields[0].empty()) {
+      continue;  // blank line
+    }
+    if (m_fields.size() != m_columns.size()) {
+      fail("expected " + std::to_string(m_columns.size()) +
+           " fields as in the header, found " +
+           std::to_string(m_fields.size()));
+    }
+    return true;
+  }
+  m_fields.clear();
+  return false;
+}
+
+void CsvReader::fail(std::string_view what) const {
+  throw InputError(location(m_file, m_line), what);
+}
+
+void CsvReader::failField(std::size_t column, std::string_view what) const {
+  fail("column '" + m_columns[column] + "': '" +
+       excerpt(m_fields[column]) + "' " + std::string(what));
+}
+
+}  // namespace conftrack

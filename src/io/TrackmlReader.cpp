@@ -1,0 +1,310 @@
+#include "conftrack/io/TrackmlReader.hpp"
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/Detector.hpp"
+#include "conftrack/io/CsvReader.hpp"
+#include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/TrackmlFormat.hpp"
+#include "conftrack/io/TrackmlIds.hpp"
+
+#include <algorithm>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace conftrack {
+
+namespace {
+
+/// Finds the layer of TrackML (volume, layer), remembering the last answer:
+/// hits come grouped by module, so the lookup is almost always a hit.
+class LayerCache {
+ public:
+  explicit LayerCache(const Detector& detector) : m_detector(detector) {}
+
+  const SensitiveLayer* find(std::uint32_t volume, std::uint32_t layer) {
+    if (m_last == nullptr || volume != m_volume || layer != m_layer) {
+      auto index = m_detector.findTrackmlLayer(volume, layer);
+      if (!index) {
+        return nullptr;
+      }
+      m_last = &m_detector.layers()[*index];
+      m_volume = volume;
+      m_layer = layer;
+    }
+    return m_last;
+  }
+
+ private:
+  const Detector& m_detector;
+  const SensitiveLayer* m_last = nullptr;
+  std::uint32_t m_volume = 0;
+  std::uint32_t m_layer = 0;
+};
+
+/// Maps hit ids to hit indices. TrackML ids run 1..N in file order, which
+/// makes the map an identity; other orders use a hash map.
+class HitIdMap {
+ public:
+  explicit HitIdMap(const std::vector<Hit>& hits) {
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      if (hits[i].id != i + 1) {
+        m_contiguous = false;
+        break;
+      }
+    }
+    m_size = hits.size();
+    if (!m_contiguous) {
+      m_map.reserve(hits.size());
+      for (std::size_t i = 0; i < hits.size(); ++i) {
+        m_map.emplace(hits[i].id, static_cast<HitIndex>(i));
+      }
+    }
+  }
+
+  /// Index of the hit with this id, or kInvalidIndex.
+  HitIndex find(std::uint64_t id) const {
+    if (m_contiguous) {
+      return (id >= 1 && id <= m_size) ? static_cast<HitIndex>(id - 1)
+                                       : kInvalidIndex;
+    }
+    auto it = m_map.find(id);
+    return it == m_map.end() ? kInvalidIndex : it->second;
+  }
+
+ private:
+  bool m_contiguous = true;
+  std::size_t m_size = 0;
+  std::unordered_map<std::uint64_t, HitIndex> m_map;
+};
+
+double nonNegative(const CsvReader& csv, std::size_t column) {
+  double value = csv.getDouble(column);
+  if (value < 0.0) {
+    csv.failField(column, "is negative");
+  }
+  return value;
+}
+
+}  // namespace
+
+std::vector<Hit> readHits(const std::filesystem::path& file,
+                          const Detector* detector) {
+  namespace c = trackml::hits;
+  CsvReader csv = CsvReader::open(file);
+  const std::size_t cId = csv.requireColumn(c::kHitId);
+  const std::size_t cX = csv.requireColumn(c::kX);
+  const std::size_t cY = csv.requireColumn(c::kY);
+  const std::size_t cZ = csv.requireColumn(c::kZ);
+  const std::size_t cVolume = csv.requireColumn(c::kVolumeId);
+  const std::size_t cLayer = csv.requireColumn(c::kLayerId);
+  const std::size_t cModule = csv.requireColumn(c::kModuleId);
+  const auto cSigmaU = csv.findColumn(c::kSigmaU);
+  const auto cSigmaV = csv.findColumn(c::kSigmaV);
+
+  std::optional<LayerCache> layers;
+  if (detector != nullptr) {
+    layers.emplace(*detector);
+  }
+  std::vector<Hit> hits;
+  hits.reserve(csv.estimateRows());
+  // Duplicate ids: while ids run 1, 2, 3, ... they cannot repeat; a set is
+  // built only for files that leave that pattern.
+  bool contiguous = true;
+  std::unordered_set<std::uint64_t> seen;
+  while (csv.next()) {
+    Hit& hit = hits.emplace_back();
+    hit.id = csv.getInteger<std::uint64_t>(cId);
+    if (contiguous && hit.id != hits.size()) {
+      contiguous = false;
+      seen.reserve(hits.capacity());
+      for (std::size_t i = 0; i + 1 < hits.size(); ++i) {
+        seen.insert(hits[i].id);
+      }
+    }
+    if (!contiguous && !seen.insert(hit.id).second) {
+      csv.fail("duplicate hit_id " + std::to_string(hit.id));
+    }
+    hit.position = Vector3(csv.getDouble(cX) * units::mm,
+                           csv.getDouble(cY) * units::mm,
+                           csv.getDouble(cZ) * units::mm);
+    if (hit.position.x() == 0.0 && hit.position.y() == 0.0) {
+      csv.fail("hit_id " + std::to_string(hit.id) +
+               " lies on the z axis (x = y = 0): conformal coordinates are "
+               "undefined");
+    }
+    TrackmlId tid{csv.getInteger<std::uint32_t>(cVolume),
+                  csv.getInteger<std::uint32_t>(cLayer),
+                  csv.getInteger<std::uint32_t>(cModule)};
+    if (layers) {
+      const SensitiveLayer* layer = layers->find(tid.volume, tid.layer);
+      if (layer == nullptr) {
+        csv.fail("(volume_id, layer_id) = (" + std::to_string(tid.volume) +
+                 ", " + std::to_string(tid.layer) +
+                 ") is not a layer of detector '" + detector->name() + "'");
+      }
+      if (static_cast<std::uint64_t>(tid.module) >=
+          static_cast<std::uint64_t>(layer->nPhiModules) *
+              layer->nZModules) {
+        csv.failField(cModule, "exceeds the " +
+                                   std::to_string(layer->nPhiModules *
+                                                  layer->nZModules) +
+                                   " modules of layer " + layer->name);
+      }
+      hit.detId = layer->id;
+      hit.detId.module = tid.module;
+      layer->localAxes(hit.position, hit.uAxis, hit.vAxis);
+      hit.sigmaU = layer->sigmaU;
+      hit.sigmaV = layer->sigmaV;
+    } else {
+      auto id = fromTrackml(tid, nullptr);
+      if (!id) {
+        csv.fail("volume_id/layer_id do not fit 16 bits (needed without a "
+                 "detector)");
+      }
+      hit.detId = *id;
+    }
+    if (cSigmaU) {
+      hit.sigmaU = nonNegative(csv, *cSigmaU) * units::mm;
+    }
+    if (cSigmaV) {
+      hit.sigmaV = nonNegative(csv, *cSigmaV) * units::mm;
+    }
+  }
+  return hits;
+}
+
+std::vector<HitTruth> readTruth(const std::filesystem::path& file,
+                                const std::vector<Hit>& hits) {
+  namespace c = trackml::truth;
+  CsvReader csv = CsvReader::open(file);
+  const std::size_t cHitId = csv.requireColumn(c::kHitId);
+  const std::size_t cParticle = csv.requireColumn(c::kParticleId);
+  const std::size_t cTx = csv.requireColumn(c::kTx);
+  const std::size_t cTy = csv.requireColumn(c::kTy);
+  const std::size_t cTz = csv.requireColumn(c::kTz);
+  const std::size_t cTpx = csv.requireColumn(c::kTpx);
+  const std::size_t cTpy = csv.requireColumn(c::kTpy);
+  const std::size_t cTpz = csv.requireColumn(c::kTpz);
+  const auto cWeight = csv.findColumn(c::kWeight);
+  const auto cTime = csv.findColumn(c::kTime);
+
+  HitIdMap ids(hits);
+  std::vector<HitTruth> truth(hits.size());
+  std::vector<std::uint8_t> filled(hits.size(), 0);
+  while (csv.next()) {
+    std::uint64_t hitId = csv.getInteger<std::uint64_t>(cHitId);
+    HitIndex index = ids.find(hitId);
+    if (index == kInvalidIndex) {
+      csv.fail("truth for hit_id " + std::to_string(hitId) +
+               ", which is not in the hits file");
+    }
+    if (filled[index] != 0) {
+      csv.fail("second truth row for hit_id " + std::to_string(hitId));
+    }
+    filled[index] = 1;
+    HitTruth& t = truth[index];
+    t.particleId = csv.getInteger<std::uint64_t>(cParticle);
+    t.position = Vector3(csv.getDouble(cTx) * units::mm,
+                         csv.getDouble(cTy) * units::mm,
+                         csv.getDouble(cTz) * units::mm);
+    t.momentum = Vector3(csv.getDouble(cTpx) * units::GeV,
+                         csv.getDouble(cTpy) * units::GeV,
+                         csv.getDouble(cTpz) * units::GeV);
+    t.weight = cWeight ? csv.getDouble(*cWeight) : 0.0;
+    t.time = cTime ? csv.getDouble(*cTime) * units::ns : 0.0;
+  }
+  auto missing = std::find(filled.begin(), filled.end(), 0);
+  if (missing != filled.end()) {
+    std::size_t n = static_cast<std::size_t>(
+        std::count(filled.begin(), filled.end(), 0));
+    throw InputError(
+        location(csv.fileName()),
+        "no truth row for hit_id " +
+            std::to_string(hits[missing - filled.begin()].id) + " (" +
+            std::to_string(n) + " hits without truth; every hit needs one row)");
+  }
+  return truth;
+}
+
+std::vector<Particle> readParticles(const std::filesystem::path& file) {
+  namespace c = trackml::particles;
+  CsvReader csv = CsvReader::open(file);
+  const std::size_t cId = csv.requireColumn(c::kParticleId);
+  const std::size_t cVx = csv.requireColumn(c::kVx);
+  const std::size_t cVy = csv.requireColumn(c::kVy);
+  const std::size_t cVz = csv.requireColumn(c::kVz);
+  const std::size_t cPx = csv.requireColumn(c::kPx);
+  const std::size_t cPy = csv.requireColumn(c::kPy);
+  const std::size_t cPz = csv.requireColumn(c::kPz);
+  const std::size_t cQ = csv.requireColumn(c::kQ);
+  const std::size_t cNHits = csv.requireColumn(c::kNHits);
+  // Kaggle files lack particle_type; conftrack's extras are optional too.
+  const auto cType = csv.findColumn(c::kParticleType);
+  const auto cVt = csv.findColumn(c::kVt);
+  const auto cStatus = csv.findColumn(c::kStatus);
+  const auto cParent = csv.findColumn(c::kParentId);
+  const auto cBackground = csv.findColumn(c::kBackground);
+
+  std::vector<Particle> particles;
+  particles.reserve(csv.estimateRows());
+  std::unordered_set<std::uint64_t> seen;
+  seen.reserve(particles.capacity());
+  while (csv.next()) {
+    Particle& p = particles.emplace_back();
+    p.id = csv.getInteger<std::uint64_t>(cId);
+    if (p.id == 0) {
+      csv.fail("particle_id 0 is reserved for noise hits");
+    }
+    if (!seen.insert(p.id).second) {
+      csv.fail("duplicate particle_id " + std::to_string(p.id));
+    }
+    p.pdg = cType ? csv.getInteger<std::int32_t>(*cType) : 0;
+    p.vertex = Vector3(csv.getDouble(cVx) * units::mm,
+                       csv.getDouble(cVy) * units::mm,
+                       csv.getDouble(cVz) * units::mm);
+    p.momentum = Vector3(csv.getDouble(cPx) * units::GeV,
+                         csv.getDouble(cPy) * units::GeV,
+                         csv.getDouble(cPz) * units::GeV);
+    p.charge = csv.getDouble(cQ);
+    p.nHits = csv.getInteger<std::uint32_t>(cNHits);
+    p.time = cVt ? csv.getDouble(*cVt) * units::ns : 0.0;
+    p.status = cStatus ? csv.getInteger<std::int32_t>(*cStatus) : 1;
+    p.parentId = cParent ? csv.getInteger<std::uint64_t>(*cParent) : 0;
+    if (cBackground) {
+      int background = csv.getInteger<int>(*cBackground);
+      if (background != 0 && background != 1) {
+        csv.failField(*cBackground, "is not 0 (signal) or 1 (background)");
+      }
+      p.origin = background == 1 ? ParticleOrigin::eBackground
+                                 : ParticleOrigin::eSignal;
+    }
+  }
+  std::sort(particles.begin(), particles.end(),
+            [](const Particle& a, const Particle& b) { return a.id < b.id; });
+  return particles;
+}
+
+Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,
+                const Detector* detector, const ReadOptions& options) {
+  EventFiles files = EventFiles::locate(dir, eventNumber);
+  if (!files.hits) {
+    throw InputError(
+        location((dir / eventFileName(eventNumber, EventFileKind::eHits,
+                                      false))
+                     .string()),
+        "no such file (nor with .gz)");
+  }
+  Event event;
+  event.number = eventNumber;
+  event.hits = readHits(*files.hits, detector);
+  if (options.truth && files.truth) {
+    event.truth = readTruth(*files.truth, event.hits);
+  }
+  if (options.particles && files.particles) {
+    event.particles = readParticles(*files.particles);
+  }
+  return event;
+}
+
+}  // namespace conftrack

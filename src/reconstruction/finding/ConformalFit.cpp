@@ -1,0 +1,259 @@
+#include "conftrack/reconstruction/finding/ConformalFit.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "conftrack/core/Units.hpp"
+
+namespace conftrack {
+
+namespace {
+
+/// Variances below this are raised to it: keeps weights finite for hits
+/// whose error along a direction is exactly zero.
+constexpr double kMinConformalVariance = 1e-20;  // (1e-10 / mm)^2
+constexpr double kMinZVariance = 1e-6;           // (1 um)^2
+
+/// Coordinates and covariance of hit i in the rotated frame.
+struct FramePoint {
+  double x;
+  double y;
+  double varX;
+  double varY;
+  double covXY;
+};
+
+FramePoint toFrame(const ConformalHits& hits, ConfIndex i, double cosA,
+                   double sinA) {
+  FramePoint p;
+  p.x = cosA * hits.u[i] + sinA * hits.v[i];
+  p.y = -sinA * hits.u[i] + cosA * hits.v[i];
+  Matrix2 rot;
+  rot << cosA, sinA, -sinA, cosA;
+  Matrix2 c = rot * hits.covariance(i) * rot.transpose();
+  p.varX = c(0, 0);
+  p.varY = c(1, 1);
+  p.covXY = c(0, 1);
+  return p;
+}
+
+/// Variance of the vertical residual for local slope `slope`.
+double residualVariance(const FramePoint& p, double slope) {
+  double var = p.varY - 2.0 * slope * p.covXY + slope * slope * p.varX;
+  return std::max(var, kMinConformalVariance);
+}
+
+double wrapAngle(double a) {
+  while (a > std::numbers::pi) {
+    a -= 2.0 * std::numbers::pi;
+  }
+  while (a <= -std::numbers::pi) {
+    a += 2.0 * std::numbers::pi;
+  }
+  return a;
+}
+
+}  // namespace
+
+double ConformalFitResult::pt(double bz) const {
+  return constants::kPtPerTeslaMm * bz * radius;
+}
+
+double ConformalFitResult::deltaChi2(const ConformalHits& hits,
+                                     ConfIndex i) const {
+  FramePoint p = toFrame(hits, i, cosA, sinA);
+  Eigen::Vector3d h(1.0, p.x, quadratic ? p.x * p.x : 0.0);
+  double slope = params(1) + 2.0 * params(2) * p.x;
+  double e = p.y - h.dot(params);
+  double var = residualVariance(p, slope) + h.dot(covariance * h);
+  return e * e / var;
+}
+
+ConformalFitResult fitConformal(const ConformalHits& hits,
+                                std::span<const ConfIndex> track,
+                                bool quadratic,
+                                const ConformalFitResult* frameFrom) {
+  ConformalFitResult r;
+  r.quadratic = quadratic;
+  const int nPar = quadratic ? 3 : 2;
+  const int n = static_cast<int>(track.size());
+  if (n < nPar) {
+    return r;
+  }
+  if (frameFrom != nullptr) {
+    r.cosA = frameFrom->cosA;
+    r.sinA = frameFrom->sinA;
+  } else {
+    // x' along the track's extent in the conformal plane: the fitted
+    // curve is then nearly horizontal and its slope is small (no
+    // near-vertical lines, algorithm.md 7.1 "rotation").
+    double du = hits.u[track.back()] - hits.u[track.front()];
+    double dv = hits.v[track.back()] - hits.v[track.front()];
+    double norm = std::hypot(du, dv);
+    if (!(norm > 0.0)) {
+      return r;
+    }
+    r.cosA = du / norm;
+    r.sinA = dv / norm;
+  }
+
+  // Small fixed-size buffers: tracks have tens of hits at most, but keep
+  // it general with a vector for long loopers.
+  std::vector<FramePoint> pts;
+  pts.reserve(track.size());
+  for (ConfIndex i : track) {
+    pts.push_back(toFrame(hits, i, r.cosA, r.sinA));
+  }
+
+  Eigen::Vector3d params = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d inv = Eigen::Matrix3d::Zero();
+  // Two passes: weights from the y' variance, then effective variances
+  // with the fitted local slope.
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    for (const FramePoint& p : pts) {
+      double slope = pass == 0 ? 0.0 : params(1) + 2.0 * params(2) * p.x;
+      double w = 1.0 / residualVariance(p, slope);
+      Eigen::Vector3d h(1.0, p.x, quadratic ? p.x * p.x : 0.0);
+      normal += w * h * h.transpose();
+      rhs += w * p.y * h;
+    }
+    if (!quadratic) {
+      normal(2, 2) = 1.0;  // q is fixed to zero
+    }
+    Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
+    if (!lu.isInvertible()) {
+      return r;
+    }
+    inv = lu.inverse();
+    params = inv * rhs;
+    if (!quadratic) {
+      params(2) = 0.0;
+      inv.row(2).setZero();
+      inv.col(2).setZero();
+    }
+    if (!params.allFinite()) {
+      return r;
+    }
+  }
+  double chi2 = 0.0;
+  for (const FramePoint& p : pts) {
+    double slope = params(1) + 2.0 * params(2) * p.x;
+    double e = p.y - (params(0) + params(1) * p.x + params(2) * p.x * p.x);
+    chi2 += e * e / residualVariance(p, slope);
+  }
+  r.params = params;
+  r.covariance = inv;
+  r.chi2 = chi2;
+  r.ndf = n - nPar;
+
+  // Circle through the origin: v' = 1/(2b') - (a'/b') u' (paper eq. 2).
+  double c = params(0);
+  double m = params(1);
+  double bPrime = std::abs(c) > 1e-15 ? 0.5 / c : std::copysign(5e14, c);
+  double aPrime = -m * bPrime;
+  r.centreX = r.cosA * aPrime - r.sinA * bPrime;
+  r.centreY = r.sinA * aPrime + r.cosA * bPrime;
+  r.radius = std::hypot(aPrime, bPrime);
+  // Motion leaves the origin towards the first hit; the centre on its
+  // left means counter-clockwise motion.
+  ConfIndex first = track.front();
+  double cross = hits.x[first] * r.centreY - hits.y[first] * r.centreX;
+  r.orientation = cross > 0.0 ? 1 : -1;
+  r.valid = std::isfinite(r.chi2);
+  return r;
+}
+
+double ArcFrame::arcLength(double x, double y, double near) const {
+  double beta = std::atan2(y - centreY, x - centreX);
+  double turn = orientation * wrapAngle(beta - beta0);
+  // Choose the turn (multiple of 2 pi) closest to the expected value.
+  double period = 2.0 * std::numbers::pi;
+  double expected = radius > 0.0 ? near / radius : 0.0;
+  double k = std::round((expected - turn) / period);
+  return radius * (turn + k * period);
+}
+
+Vector2 ArcFrame::pointAt(double s) const {
+  double beta = beta0 + orientation * (radius > 0.0 ? s / radius : 0.0);
+  return {centreX + radius * std::cos(beta), centreY + radius * std::sin(beta)};
+}
+
+ArcFrame makeArcFrame(const ConformalFitResult& circle,
+                      const ConformalHits& hits, ConfIndex first) {
+  ArcFrame a;
+  a.centreX = circle.centreX;
+  a.centreY = circle.centreY;
+  a.radius = circle.radius;
+  a.orientation = circle.orientation;
+  a.beta0 = std::atan2(hits.y[first] - a.centreY, hits.x[first] - a.centreX);
+  return a;
+}
+
+double SzFitResult::deltaChi2(double s, double z, double varZ,
+                              double varS) const {
+  Eigen::Vector2d h(1.0, s);
+  double e = z - (z0 + tanLambda * s);
+  double var = std::max(varZ + tanLambda * tanLambda * varS, kMinZVariance) +
+               h.dot(covariance * h);
+  return e * e / var;
+}
+
+SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
+                  const ArcFrame& arc) {
+  SzFitResult r;
+  const int n = static_cast<int>(track.size());
+  if (n < 2) {
+    return r;
+  }
+  std::vector<double> s(track.size());
+  double prev = 0.0;
+  for (std::size_t k = 0; k < track.size(); ++k) {
+    ConfIndex i = track[k];
+    // Successive hits are less than half a turn apart; unwrap against the
+    // previous one.
+    s[k] = k == 0 ? 0.0 : arc.arcLength(hits.x[i], hits.y[i], prev);
+    prev = s[k];
+  }
+  Eigen::Vector2d params = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d inv = Eigen::Matrix2d::Zero();
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    for (std::size_t k = 0; k < track.size(); ++k) {
+      ConfIndex i = track[k];
+      double t = pass == 0 ? 1.0 : params(1);
+      double var = std::max(hits.varZ[i] + t * t * hits.varRxy[i],
+                            kMinZVariance);
+      Eigen::Vector2d h(1.0, s[k]);
+      normal += h * h.transpose() / var;
+      rhs += hits.z[i] * h / var;
+    }
+    double det = normal.determinant();
+    if (!(std::abs(det) > 1e-12 * normal(0, 0) * normal(1, 1))) {
+      return r;
+    }
+    inv = normal.inverse();
+    params = inv * rhs;
+  }
+  double chi2 = 0.0;
+  for (std::size_t k = 0; k < track.size(); ++k) {
+    ConfIndex i = track[k];
+    double var = std::max(hits.varZ[i] + params(1) * params(1) *
+                                             hits.varRxy[i],
+                          kMinZVariance);
+    double e = hits.z[i] - (params(0) + params(1) * s[k]);
+    chi2 += e * e / var;
+  }
+  r.z0 = params(0);
+  r.tanLambda = params(1);
+  r.covariance = inv;
+  r.chi2 = chi2;
+  r.ndf = n - 2;
+  r.lastS = s.back();
+  r.valid = std::isfinite(chi2) && params.allFinite();
+  return r;
+}
+
+}  // namespace conftrack

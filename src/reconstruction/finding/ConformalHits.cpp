@@ -1,0 +1,85 @@
+#include "conftrack/reconstruction/finding/ConformalHits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "conftrack/core/Error.hpp"
+
+namespace conftrack {
+
+Matrix2 ConformalHits::covariance(ConfIndex i) const {
+  double c = std::cos(phi[i]);
+  double s = std::sin(phi[i]);
+  Vector2 t(-s, c);
+  Vector2 r(c, s);
+  return varT[i] * t * t.transpose() + varR[i] * r * r.transpose();
+}
+
+ConformalHits makeConformalHits(std::span<const Hit> hits,
+                                const Detector& detector) {
+  const std::size_t n = hits.size();
+  std::vector<double> radius(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    radius[i] = hits[i].position.head<2>().norm();
+    if (!(radius[i] > 0.0)) {
+      throw InputError("hit " + std::to_string(hits[i].id) +
+                       " lies on the z axis: conformal coordinates are "
+                       "undefined");
+    }
+  }
+  std::vector<HitIndex> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  // Total order: innermost first, ties by hit id (independent of input).
+  std::sort(order.begin(), order.end(), [&](HitIndex a, HitIndex b) {
+    if (radius[a] != radius[b]) {
+      return radius[a] < radius[b];
+    }
+    return hits[a].id < hits[b].id;
+  });
+
+  ConformalHits ch;
+  auto reserve = [n](auto&... vs) { (vs.reserve(n), ...); };
+  reserve(ch.original, ch.id, ch.x, ch.y, ch.z, ch.radius, ch.u, ch.v, ch.rc,
+          ch.phi, ch.varT, ch.varR, ch.varZ, ch.varRxy, ch.layer,
+          ch.subdetector, ch.side, ch.module);
+  for (HitIndex i : order) {
+    const Hit& h = hits[i];
+    std::optional<std::uint32_t> layer = detector.findLayer(h.detId);
+    if (!layer) {
+      throw InputError("hit " + std::to_string(h.id) +
+                       " is on a layer the detector does not have "
+                       "(subdetector " +
+                       std::to_string(h.detId.subdetector) + ", layer " +
+                       std::to_string(h.detId.layer) + ")");
+    }
+    const SensitiveLayer& l = detector.layers()[*layer];
+    double r = radius[i];
+    double r2 = r * r;
+    ch.original.push_back(i);
+    ch.id.push_back(h.id);
+    ch.x.push_back(h.position.x());
+    ch.y.push_back(h.position.y());
+    ch.z.push_back(h.position.z());
+    ch.radius.push_back(r);
+    ch.u.push_back(h.position.x() / r2);
+    ch.v.push_back(h.position.y() / r2);
+    ch.rc.push_back(1.0 / r);
+    ch.phi.push_back(std::atan2(h.position.y(), h.position.x()));
+    // u is r-phi on both barrels and disks; v is z (barrel) or radial.
+    double sigmaT = h.sigmaU;
+    double sigmaR = l.isDisk() ? h.sigmaV : 0.0;
+    ch.varT.push_back(sigmaT * sigmaT / (r2 * r2));
+    ch.varR.push_back(sigmaR * sigmaR / (r2 * r2));
+    ch.varZ.push_back(l.isDisk() ? 0.0 : h.sigmaV * h.sigmaV);
+    ch.varRxy.push_back(sigmaR * sigmaR);
+    ch.layer.push_back(*layer);
+    ch.subdetector.push_back(h.detId.subdetector);
+    ch.side.push_back(static_cast<std::int8_t>(h.detId.side));
+    ch.module.push_back(h.detId.module);
+  }
+  return ch;
+}
+
+}  // namespace conftrack

@@ -1,0 +1,138 @@
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+
+
+#include "conftrack/core/ConfigTable.hpp"
+#include "conftrack/core/DataFiles.hpp"
+#include "conftrack/core/Error.hpp"
+
+namespace conftrack {
+
+namespace {
+
+FindingStep readStep(const ConfigTable& t, const Detector& detector,
+                     bool first) {
+  FindingStep s;
+  s.name = t.getString("name");
+  if (s.name.empty()) {
+    t.fail("name", "must not be empty");
+  }
+  for (const std::string& c : t.getStringArray("collections")) {
+    std::optional<std::uint16_t> sub = detector.findSubdetector(c);
+    if (!sub) {
+      std::string known;
+      for (const Subdetector& d : detector.subdetectors()) {
+        known += (known.empty() ? "" : ", ") + d.name;
+      }
+      t.fail("collections", "detector '" + detector.name() +
+                                "' has no subdetector '" + c +
+                                "' (it has: " + known + ")");
+    }
+    for (std::uint16_t existing : s.collections) {
+      if (existing == *sub) {
+        t.fail("collections", "subdetector '" + c + "' listed twice");
+      }
+    }
+    s.collections.push_back(*sub);
+  }
+  if (first && s.collections.empty()) {
+    t.fail("collections",
+           "the first step must name its collections (an empty list reuses "
+           "the previous step's hits)");
+  }
+  std::vector<std::string> actions = t.getStringArray("actions");
+  if (actions.empty()) {
+    t.fail("actions", "at least one of \"build\", \"extend\", \"sort\"");
+  }
+  for (const std::string& a : actions) {
+    bool* flag = a == "build"    ? &s.build
+                 : a == "extend" ? &s.extend
+                 : a == "sort"   ? &s.sort
+                                 : nullptr;
+    if (flag == nullptr) {
+      t.fail("actions", "unknown action \"" + a +
+                            "\" (expected build, extend, sort)");
+    }
+    if (*flag) {
+      t.fail("actions", "action \"" + a + "\" listed twice");
+    }
+    *flag = true;
+  }
+  s.maxCellAngle = t.getDouble("max_cell_angle", Range{0.0, 3.14159, false, true});
+  s.maxCellAngleRZ =
+      t.getDouble("max_cell_angle_rz", Range{0.0, 3.14159, false, true});
+  s.chi2Cut = t.getDouble("chi2_cut", Range::positive());
+  s.minHits = static_cast<std::uint32_t>(
+      t.getInt("min_hits", Range::closed(3, 100)));
+  s.maxDistance = t.getDouble("max_distance", Range{0.0, 1.0, false, true});
+  s.slopeZRange = t.getDouble("slope_z_range", Range::positive());
+  s.highPtCut = t.getDouble("high_pt_cut_GeV", Range::nonNegative());
+  s.straightLineFit = t.getBool("straight_line_fit", false);
+  s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
+  s.radialSearch = t.getBool("radial_search", false);
+  s.recovery = t.getBool("recovery", false);
+  std::string dir = t.getString("direction", "inside-out");
+  if (dir == "inside-out") {
+    s.direction = SearchDirection::eInsideOut;
+  } else if (dir == "outside-in") {
+    s.direction = SearchDirection::eOutsideIn;
+  } else {
+    t.fail("direction", "expected \"inside-out\" or \"outside-in\"");
+  }
+  std::string fit = t.getString("fit_direction", "forward");
+  if (fit != "forward" && fit != "backward") {
+    t.fail("fit_direction", "expected \"forward\" or \"backward\"");
+  }
+  s.fitBackward = fit == "backward";
+  t.rejectUnknownKeys();
+  return s;
+}
+
+}  // namespace
+
+FinderConfig parseChain(std::string_view text, const std::string& sourceName,
+                        const Detector& detector) {
+  std::shared_ptr<toml::table> table = ConfigTable::parse(text, sourceName);
+  ConfigTable root(*table, sourceName, "");
+  FinderConfig cfg;
+  if (auto f = root.findTable("finder")) {
+    cfg.thetaRange = f->getDouble("theta_range", cfg.thetaRange,
+                                  Range{0.0, 3.14159, false, true});
+    cfg.cloneSharedHits = static_cast<std::uint32_t>(f->getInt(
+        "clone_shared_hits", cfg.cloneSharedHits, Range::closed(1, 100)));
+    cfg.maxPathsPerSeed = static_cast<std::uint32_t>(f->getInt(
+        "max_paths_per_seed", cfg.maxPathsPerSeed, Range::closed(1, 1e9)));
+    cfg.maxCellsPerSeed = static_cast<std::uint32_t>(f->getInt(
+        "max_cells_per_seed", cfg.maxCellsPerSeed, Range::closed(1, 1e9)));
+    cfg.extensionPhiWindow =
+        f->getDouble("extension_phi_window", cfg.extensionPhiWindow,
+                     Range{0.0, 3.14159, false, true});
+    cfg.legacyFourTesla = f->getBool("legacy_four_tesla", false);
+    f->rejectUnknownKeys();
+  }
+  std::vector<ConfigTable> steps = root.getTableArray("step");
+  if (steps.empty()) {
+    root.fail("step", "missing: a chain needs at least one [[step]]");
+  }
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    cfg.steps.push_back(readStep(steps[i], detector, i == 0));
+    for (std::size_t j = 0; j + 1 < cfg.steps.size(); ++j) {
+      if (cfg.steps[j].name == cfg.steps.back().name) {
+        steps[i].fail("name", "duplicate step name '" +
+                                  cfg.steps.back().name + "'");
+      }
+    }
+  }
+  root.rejectUnknownKeys();
+  return cfg;
+}
+
+FinderConfig readChain(const std::filesystem::path& file,
+                       const Detector& detector) {
+  return parseChain(readTextFile(file, "chain"), file.string(), detector);
+}
+
+std::filesystem::path resolveChainPath(const std::string& nameOrPath) {
+  return resolveShippedFile("chains", nameOrPath, "chain");
+}
+
+}  // namespace conftrack
