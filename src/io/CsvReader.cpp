@@ -43,15 +43,15 @@ CsvReader::CsvReader(std::string text, std::string fileName)
     m_pos = 3;
   }
   if (m_text.find('\0') != std::string::npos) {
-    throw InputError(location(m_file),
-                     "binary data (NUL byte) in a CSV file");
+    throw InputError(location(m_file), "binary data (NUL byte) in a CSV file");
   }
   // The header is the first line; leading empty lines are not allowed since
   // an empty file must be reported as such.
   m_line = 0;
   splitLine();
   if (m_fields.size() == 1 && m_fields[0].empty()) {
-    throw InputError(location(m_file, 1), "no header line (empty file or empty first line)");
+    throw InputError(location(m_file, 1),
+                     "no header line (empty file or empty first line)");
   }
   for (std::string_view name : m_fields) {
     if (name.empty()) {
@@ -82,10 +82,9 @@ std::size_t CsvReader::requireColumn(std::string_view name) const {
     header += header.empty() ? "" : ",";
     header += c;
   }
-  throw InputError(location(m_file, 1), "missing required column '" +
-                                            std::string(name) +
-                                            "' (header: " + excerpt(header) +
-                                            ")");
+  throw InputError(location(m_file, 1),
+                   "missing required column '" + std::string(name) +
+                       "' (header: " + excerpt(header) + ")");
 }
 
 std::size_t CsvReader::estimateRows() const {
@@ -141,8 +140,8 @@ void CsvReader::fail(std::string_view what) const {
 }
 
 void CsvReader::failField(std::size_t column, std::string_view what) const {
-  fail("column '" + m_columns[column] + "': '" +
-       excerpt(m_fields[column]) + "' " + std::string(what));
+  fail("column '" + m_columns[column] + "': '" + excerpt(m_fields[column]) +
+       "' " + std::string(what));
 }
 
 }  // namespace conftrack

@@ -9,7 +9,7 @@
 namespace conftrack {
 
 CsvWriter::CsvWriter(std::string fileName,
-                     std::initializer_list<std::string_view> columns,
+                     const std::vector<std::string_view>& columns,
                      std::size_t expectedRows)
     : m_file(std::move(fileName)) {
   // ~12 characters per field is typical for TrackML-like tables.

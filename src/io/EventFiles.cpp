@@ -33,8 +33,7 @@ std::optional<std::filesystem::path> findOne(const std::filesystem::path& dir,
   if (hasPlain && hasGz) {
     throw InputError(location(plain.string()),
                      "both " + plain.filename().string() + " and " +
-                         gz.filename().string() +
-                         " exist: remove one of them");
+                         gz.filename().string() + " exist: remove one of them");
   }
   if (hasPlain) {
     return plain;

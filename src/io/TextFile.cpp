@@ -2,6 +2,8 @@
 
 #include "conftrack/core/Error.hpp"
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -9,8 +11,6 @@
 #include <limits>
 #include <memory>
 #include <system_error>
-
-#include <zlib.h>
 #include <unistd.h>
 
 namespace conftrack {
@@ -51,8 +51,8 @@ std::string readRaw(const std::filesystem::path& file) {
     if (used == data.size()) {
       data.resize(data.size() * 2);
     }
-    std::size_t n = std::fread(data.data() + used, 1, data.size() - used,
-                               f.get());
+    std::size_t n =
+        std::fread(data.data() + used, 1, data.size() - used, f.get());
     used += n;
     if (n == 0) {
       if (std::ferror(f.get())) {
@@ -96,8 +96,8 @@ std::string gunzip(std::string_view in, const std::string& name) {
   for (;;) {
     if (zs.avail_in == 0 && consumed < in.size()) {
       std::size_t n = std::min(in.size() - consumed, kMaxZlibChunk);
-      zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data())) +
-                   consumed;
+      zs.next_in =
+          reinterpret_cast<Bytef*>(const_cast<char*>(in.data())) + consumed;
       zs.avail_in = static_cast<uInt>(n);
       consumed += n;
     }
@@ -142,8 +142,8 @@ std::string gunzip(std::string_view in, const std::string& name) {
 
 std::string gzip(std::string_view in, int level) {
   z_stream zs{};
-  if (deflateInit2(&zs, std::clamp(level, 1, 9), Z_DEFLATED, 16 + MAX_WBITS,
-                   8, Z_DEFAULT_STRATEGY) != Z_OK) {
+  if (deflateInit2(&zs, std::clamp(level, 1, 9), Z_DEFLATED, 16 + MAX_WBITS, 8,
+                   Z_DEFAULT_STRATEGY) != Z_OK) {
     throw std::runtime_error("zlib: deflateInit2 failed");
   }
   struct Guard {
@@ -159,8 +159,8 @@ std::string gzip(std::string_view in, int level) {
   for (;;) {
     if (zs.avail_in == 0 && consumed < in.size()) {
       std::size_t n = std::min(in.size() - consumed, kMaxZlibChunk);
-      zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data())) +
-                   consumed;
+      zs.next_in =
+          reinterpret_cast<Bytef*>(const_cast<char*>(in.data())) + consumed;
       zs.avail_in = static_cast<uInt>(n);
       consumed += n;
     }
@@ -233,8 +233,8 @@ void writeTextFile(const std::filesystem::path& file, std::string_view text,
   std::filesystem::rename(tmp, file, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    throw InputError(location(name), "cannot rename temporary file: " +
-                                         ec.message());
+    throw InputError(location(name),
+                     "cannot rename temporary file: " + ec.message());
   }
 }
 

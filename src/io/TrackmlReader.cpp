@@ -125,9 +125,9 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
     if (!contiguous && !seen.insert(hit.id).second) {
       csv.fail("duplicate hit_id " + std::to_string(hit.id));
     }
-    hit.position = Vector3(csv.getDouble(cX) * units::mm,
-                           csv.getDouble(cY) * units::mm,
-                           csv.getDouble(cZ) * units::mm);
+    hit.position =
+        Vector3(csv.getDouble(cX) * units::mm, csv.getDouble(cY) * units::mm,
+                csv.getDouble(cZ) * units::mm);
     if (hit.position.x() == 0.0 && hit.position.y() == 0.0) {
       csv.fail("hit_id " + std::to_string(hit.id) +
                " lies on the z axis (x = y = 0): conformal coordinates are "
@@ -144,12 +144,11 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
                  ") is not a layer of detector '" + detector->name() + "'");
       }
       if (static_cast<std::uint64_t>(tid.module) >=
-          static_cast<std::uint64_t>(layer->nPhiModules) *
-              layer->nZModules) {
-        csv.failField(cModule, "exceeds the " +
-                                   std::to_string(layer->nPhiModules *
-                                                  layer->nZModules) +
-                                   " modules of layer " + layer->name);
+          static_cast<std::uint64_t>(layer->nPhiModules) * layer->nZModules) {
+        csv.failField(
+            cModule, "exceeds the " +
+                         std::to_string(layer->nPhiModules * layer->nZModules) +
+                         " modules of layer " + layer->name);
       }
       hit.detId = layer->id;
       hit.detId.module = tid.module;
@@ -159,8 +158,9 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
     } else {
       auto id = fromTrackml(tid, nullptr);
       if (!id) {
-        csv.fail("volume_id/layer_id do not fit 16 bits (needed without a "
-                 "detector)");
+        csv.fail(
+            "volume_id/layer_id do not fit 16 bits (needed without a "
+            "detector)");
       }
       hit.detId = *id;
     }
@@ -205,9 +205,9 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
     filled[index] = 1;
     HitTruth& t = truth[index];
     t.particleId = csv.getInteger<std::uint64_t>(cParticle);
-    t.position = Vector3(csv.getDouble(cTx) * units::mm,
-                         csv.getDouble(cTy) * units::mm,
-                         csv.getDouble(cTz) * units::mm);
+    t.position =
+        Vector3(csv.getDouble(cTx) * units::mm, csv.getDouble(cTy) * units::mm,
+                csv.getDouble(cTz) * units::mm);
     t.momentum = Vector3(csv.getDouble(cTpx) * units::GeV,
                          csv.getDouble(cTpy) * units::GeV,
                          csv.getDouble(cTpz) * units::GeV);
@@ -216,13 +216,13 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
   }
   auto missing = std::find(filled.begin(), filled.end(), 0);
   if (missing != filled.end()) {
-    std::size_t n = static_cast<std::size_t>(
-        std::count(filled.begin(), filled.end(), 0));
-    throw InputError(
-        location(csv.fileName()),
-        "no truth row for hit_id " +
-            std::to_string(hits[missing - filled.begin()].id) + " (" +
-            std::to_string(n) + " hits without truth; every hit needs one row)");
+    std::size_t n =
+        static_cast<std::size_t>(std::count(filled.begin(), filled.end(), 0));
+    throw InputError(location(csv.fileName()),
+                     "no truth row for hit_id " +
+                         std::to_string(hits[missing - filled.begin()].id) +
+                         " (" + std::to_string(n) +
+                         " hits without truth; every hit needs one row)");
   }
   return truth;
 }
@@ -260,9 +260,9 @@ std::vector<Particle> readParticles(const std::filesystem::path& file) {
       csv.fail("duplicate particle_id " + std::to_string(p.id));
     }
     p.pdg = cType ? csv.getInteger<std::int32_t>(*cType) : 0;
-    p.vertex = Vector3(csv.getDouble(cVx) * units::mm,
-                       csv.getDouble(cVy) * units::mm,
-                       csv.getDouble(cVz) * units::mm);
+    p.vertex =
+        Vector3(csv.getDouble(cVx) * units::mm, csv.getDouble(cVy) * units::mm,
+                csv.getDouble(cVz) * units::mm);
     p.momentum = Vector3(csv.getDouble(cPx) * units::GeV,
                          csv.getDouble(cPy) * units::GeV,
                          csv.getDouble(cPz) * units::GeV);
@@ -290,8 +290,7 @@ Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,
   EventFiles files = EventFiles::locate(dir, eventNumber);
   if (!files.hits) {
     throw InputError(
-        location((dir / eventFileName(eventNumber, EventFileKind::eHits,
-                                      false))
+        location((dir / eventFileName(eventNumber, EventFileKind::eHits, false))
                      .string()),
         "no such file (nor with .gz)");
   }

@@ -9,6 +9,7 @@
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace conftrack {
@@ -35,10 +36,19 @@ void removeIfExists(const std::filesystem::path& file) {
 void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,
                const Detector* detector, int gzipLevel) {
   namespace c = trackml::hits;
-  CsvWriter csv(file.string(),
-                {c::kHitId, c::kX, c::kY, c::kZ, c::kVolumeId, c::kLayerId,
-                 c::kModuleId, c::kSigmaU, c::kSigmaV},
-                hits.size());
+  // Resolutions all 0 mean "unknown" (e.g. Kaggle hits read without a
+  // detector): leave the columns out, so that a later read with a detector
+  // takes the layer resolutions instead of zeros.
+  const bool withSigmas = std::any_of(
+      hits.begin(), hits.end(),
+      [](const Hit& h) { return h.sigmaU != 0.0 || h.sigmaV != 0.0; });
+  std::vector<std::string_view> columns = {
+      c::kHitId, c::kX, c::kY, c::kZ, c::kVolumeId, c::kLayerId, c::kModuleId};
+  if (withSigmas) {
+    columns.push_back(c::kSigmaU);
+    columns.push_back(c::kSigmaV);
+  }
+  CsvWriter csv(file.string(), columns, hits.size());
   // Consecutive hits are mostly on one layer: remember the last mapping.
   DetectorId lastLayer;
   std::optional<TrackmlId> last;
@@ -50,8 +60,7 @@ void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,
         csv.fail("hit_id " + std::to_string(hit.id) + ": detector id " +
                  describe(hit.detId) +
                  (detector != nullptr
-                      ? " is not a layer of detector '" + detector->name() +
-                            "'"
+                      ? " is not a layer of detector '" + detector->name() + "'"
                       : std::string(" is not on the barrel side: without a "
                                     "detector only raw barrel ids can be "
                                     "written")));
@@ -64,8 +73,10 @@ void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,
     csv.add(last->volume);
     csv.add(last->layer);
     csv.add(hit.detId.module);
-    csv.add(hit.sigmaU / units::mm);
-    csv.add(hit.sigmaV / units::mm);
+    if (withSigmas) {
+      csv.add(hit.sigmaU / units::mm);
+      csv.add(hit.sigmaV / units::mm);
+    }
     csv.endRow();
   }
   csv.write(file, hasGzipExtension(file), gzipLevel);
@@ -101,8 +112,7 @@ void writeTruth(const std::filesystem::path& file, const std::vector<Hit>& hits,
 }
 
 void writeParticles(const std::filesystem::path& file,
-                    const std::vector<Particle>& particles,
-                    int gzipLevel) {
+                    const std::vector<Particle>& particles, int gzipLevel) {
   namespace c = trackml::particles;
   CsvWriter csv(file.string(),
                 {c::kParticleId, c::kParticleType, c::kVx, c::kVy, c::kVz,

@@ -94,10 +94,9 @@ T CsvReader::getInteger(std::size_t column) const {
   T value{};
   auto [ptr, ec] = std::from_chars(begin, end, value);
   if (s.empty() || ec != std::errc{} || ptr != end) {
-    failField(column,
-              "is not an integer in [" +
-                  std::to_string(std::numeric_limits<T>::min()) + ", " +
-                  std::to_string(std::numeric_limits<T>::max()) + "]");
+    failField(column, "is not an integer in [" +
+                          std::to_string(std::numeric_limits<T>::min()) + ", " +
+                          std::to_string(std::numeric_limits<T>::max()) + "]");
   }
   return value;
 }

@@ -7,11 +7,12 @@
 /// back to the same bits (so write/read round trips are exact); integers in
 /// decimal. The text is written out with writeTextFile.
 
+#include "conftrack/io/TextFile.hpp"
+
 #include <charconv>
 #include <concepts>
 #include <cstddef>
 #include <filesystem>
-#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,7 +24,7 @@ class CsvWriter {
  public:
   /// `fileName` is used in error messages; `columns` is the header.
   /// `expectedRows` reserves memory.
-  CsvWriter(std::string fileName, std::initializer_list<std::string_view> columns,
+  CsvWriter(std::string fileName, const std::vector<std::string_view>& columns,
             std::size_t expectedRows = 0);
 
   /// Appends a double field. Throws InputError for NaN or infinity: the
@@ -45,7 +46,7 @@ class CsvWriter {
   const std::string& text() const { return m_text; }
   /// Writes the text to `file` (gzip if `gzip`), see writeTextFile.
   void write(const std::filesystem::path& file, bool gzip,
-             int gzipLevel = 6) const;
+             int gzipLevel = kDefaultGzipLevel) const;
 
  private:
   /// Adds the separator before a new field.

@@ -21,12 +21,18 @@ namespace conftrack {
 /// followed by trailing garbage.
 std::string readTextFile(const std::filesystem::path& file);
 
+/// Default zlib level of the writers. Level 1 writes a TrackML hits file
+/// about 5x faster than gzip's default 6 (27 ms instead of 144 ms for
+/// 94k hits) for files about 17% larger: writing must not dominate a
+/// simulation job. Use 9 for archiving.
+inline constexpr int kDefaultGzipLevel = 1;
+
 /// Writes `text` to `file`, gzip-compressed with `gzipLevel` (1 fastest to 9
 /// smallest) if `gzip` is true. The data go to a temporary file in the same
 /// folder that is renamed at the end, so readers never see a half-written
 /// file. Throws InputError if the file cannot be written.
 void writeTextFile(const std::filesystem::path& file, std::string_view text,
-                   bool gzip, int gzipLevel = 6);
+                   bool gzip, int gzipLevel = kDefaultGzipLevel);
 
 /// True if `file` ends in ".gz" (the writers' rule to choose compression).
 bool hasGzipExtension(const std::filesystem::path& file);

@@ -15,7 +15,7 @@
 ///   sigma_u,sigma_v                             conftrack extra  [mm]
 ///     resolution along the local u (r-phi) and v (z on barrels, r on
 ///     disks) axes. Missing: the detector layer's resolution if a detector
-///     is given, else 0.
+///     is given, else 0. Written only if some hit has a non-zero one.
 /// truth (one row per hit, hit_id in any order):
 ///   hit_id,particle_id (0 = noise),tx,ty,tz [mm],tpx,tpy,tpz [GeV],weight
 ///   time                                        conftrack extra  [ns]

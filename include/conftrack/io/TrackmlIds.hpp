@@ -11,10 +11,10 @@
 /// processed and written back unchanged: subdetector = volume_id,
 /// side = barrel, layer = layer_id, module = module_id.
 
+#include "conftrack/core/DetectorId.hpp"
+
 #include <cstdint>
 #include <optional>
-
-#include "conftrack/core/DetectorId.hpp"
 
 namespace conftrack {
 

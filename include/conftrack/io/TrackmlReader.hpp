@@ -8,13 +8,13 @@
 /// found by header name; unknown columns are ignored. Any problem throws a
 /// one-line InputError "file:line: problem".
 
-#include <cstdint>
-#include <filesystem>
-#include <vector>
-
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Particle.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
 
 namespace conftrack {
 

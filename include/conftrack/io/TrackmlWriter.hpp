@@ -6,15 +6,16 @@
 ///
 /// Doubles are written in their shortest exact form, so reading a written
 /// event gives back the same bits. The low-level writers compress when the
-/// file name ends in ".gz" (with zlib level `gzipLevel`). Files appear atomically (written to a temporary
-/// file, then renamed).
-
-#include <filesystem>
-#include <vector>
+/// file name ends in ".gz" (with zlib level `gzipLevel`). Files appear
+/// atomically (written to a temporary file, then renamed).
 
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Particle.hpp"
+#include "conftrack/io/TextFile.hpp"
+
+#include <filesystem>
+#include <vector>
 
 namespace conftrack {
 
@@ -24,27 +25,30 @@ class Detector;
 struct WriteOptions {
   /// Write `.csv.gz` instead of `.csv`.
   bool gzip = false;
-  /// zlib level, 1 (fastest) to 9 (smallest).
-  int gzipLevel = 6;
+  /// zlib level, 1 (fastest) to 9 (smallest); see kDefaultGzipLevel.
+  int gzipLevel = kDefaultGzipLevel;
 };
 
 /// Writes a hits file. With a detector, each hit's detId must name one of its
 /// layers, whose TrackML ids are written; without one (nullptr) the ids are
-/// written raw (TrackmlIds.hpp), which needs side = barrel. Throws InputError
+/// written raw (TrackmlIds.hpp), which needs side = barrel. The sigma_u and
+/// sigma_v columns are left out if all resolutions are 0 (unknown), so that
+/// such files stay plain TrackML files. Throws InputError
 /// for an id that cannot be written and for non-finite values.
 void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,
-               const Detector* detector, int gzipLevel = 6);
+               const Detector* detector, int gzipLevel = kDefaultGzipLevel);
 
 /// Writes a truth file, one row per hit in hit order; `truth` must be
 /// parallel to `hits` (throws std::invalid_argument otherwise).
 void writeTruth(const std::filesystem::path& file, const std::vector<Hit>& hits,
-                const std::vector<HitTruth>& truth, int gzipLevel = 6);
+                const std::vector<HitTruth>& truth,
+                int gzipLevel = kDefaultGzipLevel);
 
 /// Writes a particles file in the full TrackML format (with particle_type)
 /// plus conftrack's extra columns, in the given order.
 void writeParticles(const std::filesystem::path& file,
                     const std::vector<Particle>& particles,
-                    int gzipLevel = 6);
+                    int gzipLevel = kDefaultGzipLevel);
 
 /// Writes event `event.number` into `dir` (created if needed): hits,
 /// particles, and truth if the event has truth. Files of the same event left

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/LU>
+
 #include "conftrack/core/Units.hpp"
 
 namespace conftrack {

@@ -1,0 +1,57 @@
+#pragma once
+
+/// @file ConformalTrackFinder.hpp
+/// The conformal-tracking pattern recognition (paper 4.1): runs the chain
+/// of steps on the hits of one event. Truth is never used.
+
+#include <span>
+#include <vector>
+
+#include "conftrack/core/Hit.hpp"
+#include "conftrack/geometry/Detector.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+#include "conftrack/reconstruction/finding/TrackCandidate.hpp"
+
+namespace conftrack {
+
+/// A found track: event hit indices along the path plus the finder's fits.
+struct FoundTrack {
+  std::vector<HitIndex> hits;
+  ConformalFitResult uv;
+  SzFitResult sz;
+  double pt = 0.0;
+  int charge = 0;
+  std::uint16_t step = 0;
+  bool fitBackward = false;
+};
+
+/// Output of the finder for one event.
+struct FindingResult {
+  std::vector<FoundTrack> tracks;
+  std::vector<StepStats> steps;
+  double milliseconds = 0.0;
+};
+
+/// Conformal track finder. Stateless after construction: `run` is const
+/// and may be called from several threads at once.
+class ConformalTrackFinder {
+ public:
+  struct Config {
+    /// The chain and global settings (chains/clicdet.toml by default).
+    FinderConfig chain;
+  };
+
+  ConformalTrackFinder(const Detector& detector, Config config);
+
+  /// Finds tracks among `hits`. The result does not depend on the order of
+  /// the hits or on the number of threads.
+  FindingResult run(std::span<const Hit> hits) const;
+
+  const Config& config() const { return m_config; }
+
+ private:
+  const Detector* m_detector;
+  Config m_config;
+};
+
+}  // namespace conftrack

@@ -1,0 +1,75 @@
+#pragma once
+
+/// @file FinderState.hpp
+/// Per-event state of the conformal finder (internal). The finder object is
+/// const; everything that changes during an event lives here.
+
+#include <cstdint>
+#include <vector>
+
+#include "conftrack/geometry/Detector.hpp"
+#include "conftrack/reconstruction/finding/ConformalHits.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+#include "conftrack/reconstruction/finding/HitPool.hpp"
+#include "conftrack/reconstruction/finding/TrackCandidate.hpp"
+
+namespace conftrack::detail {
+
+/// Total order of candidate quality: longer first, then lower
+/// chi2_uv/ndf + chi2_sz/ndf, then the hit lists (deterministic ties).
+bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b);
+
+/// Clone treatment (algorithm.md 8.5, made order-independent): a new
+/// candidate sharing at least `minShared` hits with accepted tracks replaces
+/// them if it is better than each of them, and is dropped otherwise.
+class CloneIndex {
+ public:
+  explicit CloneIndex(std::size_t nHits) : m_hitTracks(nHits) {}
+  /// Returns true if `candidate` was added to `tracks`.
+  bool offer(std::vector<TrackCandidate>& tracks, TrackCandidate candidate,
+             std::uint32_t minShared);
+  /// Re-indexes after `tracks` was compacted or reordered.
+  void rebuild(const std::vector<TrackCandidate>& tracks);
+  /// Registers hit `h` as part of track `t` (extensions).
+  void addHit(ConfIndex h, std::uint32_t t) { m_hitTracks[h].push_back(t); }
+
+ private:
+  std::vector<std::vector<std::uint32_t>> m_hitTracks;
+};
+
+/// Everything that changes while one event is processed.
+struct FinderState {
+  const ConformalHits& hits;
+  const Detector& detector;
+  const FinderConfig& config;
+  /// Field used in the pT estimate [T] (4 T with legacyFourTesla).
+  double bzForPt;
+  std::vector<std::uint8_t> used;
+  std::vector<TrackCandidate> tracks;
+  CloneIndex clones;
+
+  FinderState(const ConformalHits& h, const Detector& d,
+              const FinderConfig& c, double bz)
+      : hits(h), detector(d), config(c), bzForPt(bz), used(h.size(), 0),
+        clones(h.size()) {}
+  /// Removes dead tracks and re-indexes.
+  void compact();
+};
+
+/// Fits a hit list as a candidate of `step`; returns false if a fit fails
+/// or the chi2 cuts reject it.
+bool fitCandidate(const FinderState& state, const FindingStep& step,
+                  std::vector<ConfIndex> hits, TrackCandidate& out);
+
+/// BuildNewTracks: cellular automaton per seed, path extraction, fits,
+/// clone treatment (algorithm.md 5, 6, 8).
+void buildTracks(FinderState& state, const FindingStep& step,
+                 std::uint16_t stepIndex, const HitPool& pool,
+                 StepStats& stats);
+
+/// ExtendTracks: per-layer extension of tracks above the step's pT cut,
+/// then the catch-all extension of all tracks (algorithm.md 10).
+void extendTracks(FinderState& state, const FindingStep& step,
+                  const HitPool& pool, StepStats& stats);
+
+}  // namespace conftrack::detail

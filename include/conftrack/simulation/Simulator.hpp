@@ -1,0 +1,114 @@
+#pragma once
+
+/// @file Simulator.hpp
+/// The fast detector simulation: exact helices between thin material
+/// surfaces, multiple scattering and energy loss at each crossing, one
+/// smeared hit per crossing of a sensitive layer (physics.md 2, 4-6).
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "conftrack/core/Event.hpp"
+#include "conftrack/core/Particle.hpp"
+#include "conftrack/core/Random.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/Detector.hpp"
+#include "conftrack/simulation/SurfaceNavigator.hpp"
+
+namespace conftrack {
+
+/// Simulates charged particles through a Detector.
+///
+/// Each stable (status 1) charged particle produced inside the tracker
+/// envelope follows its helix from the vertex to the nearest surface
+/// crossing (sensitive layer or passive surface, SurfaceNavigator), where
+///  1. a hit is recorded if the surface is sensitive (true position, the
+///     incoming momentum and the time in HitTruth; the measured position
+///     smeared in the layer's local frame, HitSmearing.hpp);
+///  2. the material x/X0 = t/|cos alpha| is applied, alpha being the angle
+///     between the direction and the surface normal: multiple scattering
+///     with the pre-loss momentum, then the mean ionisation loss and, for
+///     electrons, Bethe-Heitler bremsstrahlung (the Fatras order);
+/// and a new helix starts. A particle stops when it leaves the envelope,
+/// falls below minMomentum, or has made maxTurns turns.
+///
+/// Thread-safe: simulate() is const and all randomness comes from the
+/// engine passed in, so the output is a function of (particles, engine
+/// state) only.
+class Simulator {
+ public:
+  /// Settings; every default is what the shipped chains use.
+  struct Config {
+    /// Gaussian multiple scattering at every crossing (Highland; electrons
+    /// Rossi-Greisen, as ACTS).
+    bool multipleScattering = true;
+    /// Mean ionisation loss at every crossing (Bethe, silicon constants).
+    bool energyLoss = true;
+    /// Bethe-Heitler bremsstrahlung of electrons (sampled fraction; no
+    /// photon is produced). Needs energyLoss.
+    bool bremsstrahlung = true;
+    /// Smear measured positions; if false the hit is the true crossing.
+    bool smearHits = true;
+    /// Particles below this momentum are not simulated or are stopped
+    /// [GeV]. 10 MeV: at 4 T the diameter is then below 17 mm.
+    double minMomentum = 10.0 * units::MeV;
+    /// Stop a looper after this many turns (transverse path / (2 pi rho),
+    /// summed over its helix segments). Realism against cost: each turn of
+    /// a low-pT looper in the vertex detector makes ~14 crossings.
+    double maxTurns = 3.0;
+    /// Smearing draws per hit before it is dropped (MaxTries of
+    /// DDPlanarDigiProcessor).
+    unsigned maxSmearAttempts = 10;
+    /// Safety cap on the surface crossings of one particle.
+    unsigned maxCrossings = 1000;
+    /// Lower bound on |cos alpha| in x/X0 = t/|cos alpha|: a grazing track
+    /// sees at most 1/minCosIncidence times the normal thickness (a real
+    /// module is finite; the thin-surface model has no other limit).
+    double minCosIncidence = 0.01;
+  };
+
+  /// The smallest transverse step between two crossings [mm]: a surface
+  /// just crossed is not found again within this distance.
+  static constexpr double kMinStep = 1e-4 * units::mm;
+
+  /// Simulator with the default Config. Copies what it needs from
+  /// `detector` (no reference is kept).
+  explicit Simulator(const Detector& detector);
+  /// Simulator with `config`; throws std::invalid_argument for invalid
+  /// settings (negative minMomentum, maxTurns <= 0, zero attempts or
+  /// crossings, minCosIncidence outside (0, 1]).
+  Simulator(const Detector& detector, const Config& config);
+
+  /// The settings.
+  const Config& config() const { return m_config; }
+  /// The surfaces and crossing search.
+  const SurfaceNavigator& navigator() const { return m_navigator; }
+
+  /// Simulates `particles` and appends to `out`: hits and their truth
+  /// (parallel), in particle order then crossing order, with ids counting
+  /// on from the largest hit id already in `out` (1 for an empty event);
+  /// all particles (also neutral, decayed and skipped ones) with nHits set.
+  /// out.particles is left sorted by id.
+  void simulate(const std::vector<Particle>& particles, RandomEngine& rng,
+                Event& out) const;
+
+  /// Mass used for a PDG code [GeV]: the PDG table, the charged-pion mass
+  /// for codes not in it.
+  static double massOf(std::int32_t pdg);
+
+ private:
+  /// Propagates one particle, appending its hits; returns their number.
+  std::uint32_t simulateParticle(const Particle& particle, RandomEngine& rng,
+                                 std::normal_distribution<double>& normal,
+                                 std::uint64_t& nextHitId, Event& out) const;
+
+  Config m_config;
+  double m_bz;
+  double m_envelopeR;
+  double m_envelopeZ;
+  std::vector<SensitiveLayer> m_layers;
+  SurfaceNavigator m_navigator;
+};
+
+}  // namespace conftrack

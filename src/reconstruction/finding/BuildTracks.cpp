@@ -1,0 +1,425 @@
+// BuildNewTracks of conformal tracking (algorithm.md 5, 6, 8; paper 4.1.1):
+// per seed hit, a forward cellular automaton of cells (segments between
+// hits) in the conformal plane, then paths from the leaf cells back to the
+// seed, fits, chi2 cuts and the clone treatment.
+//
+// Differences from upstream, each for a reason given in algorithm.md 14:
+// - angles between cells from direction vectors (no NaN for vertical
+//   cells; kinks that reverse direction are rejected);
+// - paths are enumerated from leaf cells only; every shorter upstream path
+//   is a prefix of a leaf path, so failing leaf paths are truncated from
+//   the far end down to min_hits instead (same candidates, no repeats);
+// - the enumeration is bounded per seed (maxPathsPerSeed); beyond it each
+//   remaining leaf contributes its straightest path (graceful degradation
+//   instead of upstream's TooManyTracks abort of the step);
+// - a seed that is already on a track accepted in this step is skipped: its
+//   candidates would be subsets of that track and lose the clone treatment.
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
+namespace conftrack::detail {
+
+namespace {
+
+struct Cell {
+  ConfIndex start;
+  ConfIndex end;
+  double du, dv;  // unit direction in (u, v)
+  double dz, dr;  // unit direction in (z, R)
+  std::uint32_t weight;
+};
+
+/// Angle between two unit vectors, in [0, pi]: atan2(|a x b|, a . b).
+double angleBetween(double ax, double ay, double bx, double by) {
+  return std::atan2(std::abs(ax * by - ay * bx), ax * bx + ay * by);
+}
+
+class SeedAutomaton {
+ public:
+  SeedAutomaton(FinderState& state, const FindingStep& step,
+                const HitPool& pool, StepStats& stats)
+      : m_state(state),
+        m_hits(state.hits),
+        m_step(step),
+        m_pool(pool),
+        m_stats(stats),
+        m_insideOut(step.direction == SearchDirection::eInsideOut) {}
+
+  /// Runs the automaton for one seed; appends passing candidates.
+  void run(ConfIndex seed, std::vector<TrackCandidate>& candidates) {
+    m_cells.clear();
+    m_edges.clear();
+    m_lookup.clear();
+    m_overflowCells = false;
+    seedCells(seed);
+    grow();
+    m_stats.cells += m_cells.size();
+    if (m_overflowCells) {
+      ++m_stats.cellOverflows;
+    }
+    extractPaths(candidates);
+  }
+
+ private:
+  bool acceptNeighbour(ConfIndex from, ConfIndex n) const {
+    if (n == from || m_state.used[n] != 0 || m_hits.sameLayer(from, n)) {
+      return false;
+    }
+    if (m_hits.isEndcap(from) && m_hits.isEndcap(n) &&
+        m_hits.side[from] != m_hits.side[n]) {
+      return false;
+    }
+    return m_insideOut ? m_hits.rc[n] < m_hits.rc[from]
+                       : m_hits.rc[n] > m_hits.rc[from];
+  }
+
+  Cell makeCell(ConfIndex a, ConfIndex b, std::uint32_t weight) const {
+    Cell c{a, b, 0, 0, 0, 0, weight};
+    double du = m_hits.u[b] - m_hits.u[a];
+    double dv = m_hits.v[b] - m_hits.v[a];
+    double l = std::hypot(du, dv);
+    c.du = du / l;
+    c.dv = dv / l;
+    double dz = m_hits.z[b] - m_hits.z[a];
+    double dr = m_hits.radius[b] - m_hits.radius[a];
+    double lr = std::hypot(dz, dr);
+    c.dz = lr > 0.0 ? dz / lr : 0.0;
+    c.dr = lr > 0.0 ? dr / lr : 1.0;
+    return c;
+  }
+
+  bool anglesPass(const Cell& parent, const Cell& child) const {
+    return angleBetween(parent.du, parent.dv, child.du, child.dv) <=
+               m_step.maxCellAngle &&
+           angleBetween(parent.dz, parent.dr, child.dz, child.dr) <=
+               m_step.maxCellAngleRZ;
+  }
+
+  static std::uint64_t key(ConfIndex a, ConfIndex b) {
+    return (static_cast<std::uint64_t>(a) << 32) | b;
+  }
+
+  void seedCells(ConfIndex seed) {
+    if (m_step.radialSearch) {
+      m_pool.disc(m_hits.u[seed], m_hits.v[seed], m_step.maxDistance, m_nb);
+    } else {
+      m_pool.azimuthWindow(m_hits.phi[seed], m_state.config.thetaRange, m_nb);
+    }
+    for (ConfIndex n : m_nb) {
+      if (!acceptNeighbour(seed, n)) {
+        continue;
+      }
+      double dxy = std::hypot(m_hits.x[n] - m_hits.x[seed],
+                              m_hits.y[n] - m_hits.y[seed]);
+      double dz = std::abs(m_hits.z[n] - m_hits.z[seed]);
+      if (dz > m_step.slopeZRange * dxy) {
+        continue;
+      }
+      double length = std::hypot(m_hits.u[n] - m_hits.u[seed],
+                                 m_hits.v[n] - m_hits.v[seed]);
+      if (length > m_step.maxDistance) {
+        continue;
+      }
+      m_lookup.emplace(key(seed, n), static_cast<std::uint32_t>(m_cells.size()));
+      m_cells.push_back(makeCell(seed, n, 0));
+    }
+  }
+
+  void grow() {
+    std::size_t begin = 0;
+    std::size_t end = m_cells.size();
+    while (begin < end) {
+      for (std::size_t ci = begin; ci < end; ++ci) {
+        const Cell parent = m_cells[ci];
+        ConfIndex last = parent.end;
+        // Search around a "virtual hit" on the cell's prolongation
+        // (algorithm.md 4, cell extension).
+        double d = m_step.maxDistance;
+        if (m_insideOut && d > m_hits.rc[last]) {
+          d = 1.2 * m_hits.rc[last];
+        }
+        double cu = m_hits.u[last] + 0.5 * d * parent.du;
+        double cv = m_hits.v[last] + 0.5 * d * parent.dv;
+        m_pool.disc(cu, cv, 0.625 * d, m_nb);
+        for (ConfIndex n : m_nb) {
+          if (!acceptNeighbour(last, n)) {
+            continue;
+          }
+          auto it = m_lookup.find(key(last, n));
+          if (it != m_lookup.end()) {
+            if (anglesPass(parent, m_cells[it->second])) {
+              m_edges.emplace_back(it->second,
+                                   static_cast<std::uint32_t>(ci));
+            }
+            continue;
+          }
+          Cell child = makeCell(last, n, parent.weight + 1);
+          if (!anglesPass(parent, child)) {
+            continue;
+          }
+          if (m_cells.size() >= m_state.config.maxCellsPerSeed) {
+            m_overflowCells = true;
+            return;
+          }
+          auto index = static_cast<std::uint32_t>(m_cells.size());
+          m_lookup.emplace(key(last, n), index);
+          m_cells.push_back(child);
+          m_edges.emplace_back(index, static_cast<std::uint32_t>(ci));
+        }
+      }
+      begin = end;
+      end = m_cells.size();
+    }
+  }
+
+  void extractPaths(std::vector<TrackCandidate>& candidates) {
+    const std::size_t n = m_cells.size();
+    if (n == 0) {
+      return;
+    }
+    // Parents in CSR form, children counts.
+    std::sort(m_edges.begin(), m_edges.end());
+    m_parentBegin.assign(n + 1, 0);
+    m_children.assign(n, 0);
+    for (const auto& [child, parent] : m_edges) {
+      ++m_parentBegin[child + 1];
+      ++m_children[parent];
+    }
+    std::partial_sum(m_parentBegin.begin(), m_parentBegin.end(),
+                     m_parentBegin.begin());
+    // Weights: longest chain from a seed cell. Parents start further from
+    // the seed's opposite end, so ordering cells by the conformal radius of
+    // their start hit is a topological order.
+    m_order.resize(n);
+    std::iota(m_order.begin(), m_order.end(), 0);
+    std::sort(m_order.begin(), m_order.end(), [&](std::uint32_t a,
+                                                  std::uint32_t b) {
+      ConfIndex sa = m_cells[a].start;
+      ConfIndex sb = m_cells[b].start;
+      if (sa != sb) {
+        return m_insideOut ? sa < sb : sa > sb;
+      }
+      return a < b;
+    });
+    for (std::uint32_t c : m_order) {
+      std::uint32_t w = 0;
+      for (std::uint32_t k = m_parentBegin[c]; k < m_parentBegin[c + 1]; ++k) {
+        w = std::max(w, m_cells[m_edges[k].second].weight + 1);
+      }
+      m_cells[c].weight = w;
+    }
+    const std::uint32_t minWeight =
+        m_step.minHits >= 2 ? m_step.minHits - 2 : 0;
+    m_leaves.clear();
+    for (std::uint32_t c = 0; c < n; ++c) {
+      if (m_children[c] == 0 && m_cells[c].weight >= minWeight) {
+        m_leaves.push_back(c);
+      }
+    }
+    std::sort(m_leaves.begin(), m_leaves.end(),
+              [&](std::uint32_t a, std::uint32_t b) {
+                if (m_cells[a].weight != m_cells[b].weight) {
+                  return m_cells[a].weight > m_cells[b].weight;
+                }
+                return key(m_cells[a].start, m_cells[a].end) <
+                       key(m_cells[b].start, m_cells[b].end);
+              });
+    std::uint32_t budget = m_state.config.maxPathsPerSeed;
+    bool overflow = false;
+    for (std::uint32_t leaf : m_leaves) {
+      if (budget > 0) {
+        enumerate(leaf, budget, candidates);
+        if (budget == 0) {
+          overflow = true;
+        }
+      } else {
+        straightestPath(leaf, candidates);
+      }
+    }
+    if (overflow) {
+      ++m_stats.pathOverflows;
+    }
+  }
+
+  /// Depth-first enumeration of all paths from `leaf` back to seed cells.
+  void enumerate(std::uint32_t leaf, std::uint32_t& budget,
+                 std::vector<TrackCandidate>& candidates) {
+    // Stack of (cell, next parent slot).
+    m_stack.clear();
+    m_stack.emplace_back(leaf, m_parentBegin[leaf]);
+    while (!m_stack.empty() && budget > 0) {
+      auto& [cell, slot] = m_stack.back();
+      if (m_parentBegin[cell] == m_parentBegin[cell + 1]) {
+        // A seed cell: the stack holds a complete path.
+        m_path.clear();
+        for (auto it = m_stack.rbegin(); it != m_stack.rend(); ++it) {
+          m_path.push_back(it->first);
+        }
+        --budget;
+        evaluate(candidates);
+        m_stack.pop_back();
+        continue;
+      }
+      if (slot == m_parentBegin[cell + 1]) {
+        m_stack.pop_back();
+        continue;
+      }
+      std::uint32_t parent = m_edges[slot].second;
+      ++slot;
+      m_stack.emplace_back(parent, m_parentBegin[parent]);
+    }
+  }
+
+  /// The path that always continues with the parent of smallest kink.
+  void straightestPath(std::uint32_t leaf,
+                       std::vector<TrackCandidate>& candidates) {
+    m_path.clear();
+    std::uint32_t c = leaf;
+    m_path.push_back(c);
+    while (m_parentBegin[c] != m_parentBegin[c + 1]) {
+      std::uint32_t best = m_edges[m_parentBegin[c]].second;
+      double bestAngle = 10.0;
+      for (std::uint32_t k = m_parentBegin[c]; k < m_parentBegin[c + 1]; ++k) {
+        const Cell& p = m_cells[m_edges[k].second];
+        double a = angleBetween(p.du, p.dv, m_cells[c].du, m_cells[c].dv);
+        if (a < bestAngle) {
+          bestAngle = a;
+          best = m_edges[k].second;
+        }
+      }
+      c = best;
+      m_path.push_back(c);
+    }
+    std::reverse(m_path.begin(), m_path.end());
+    evaluate(candidates);
+  }
+
+  /// m_path: cells from the seed cell to the leaf.
+  void evaluate(std::vector<TrackCandidate>& candidates) {
+    ++m_stats.paths;
+    // Hits in seed-to-leaf order.
+    std::vector<ConfIndex> chain;
+    chain.reserve(m_path.size() + 1);
+    chain.push_back(m_cells[m_path.front()].start);
+    for (std::uint32_t c : m_path) {
+      chain.push_back(m_cells[c].end);
+    }
+    const std::size_t minHits = m_step.minHits;
+    TrackCandidate cand;
+    cand.fitBackward = m_step.fitBackward;
+    for (std::size_t len = chain.size(); len >= minHits; --len) {
+      std::vector<ConfIndex> hits(chain.begin(),
+                                  chain.begin() + static_cast<long>(len));
+      if (!m_insideOut) {
+        // Fits and extensions work along the particle's path: inner first.
+        std::reverse(hits.begin(), hits.end());
+      }
+      if (fitCandidate(m_state, m_step, hits, cand)) {
+        candidates.push_back(std::move(cand));
+        ++m_stats.candidates;
+        return;
+      }
+      if (len == chain.size() && m_step.recovery &&
+          recover(hits, candidates)) {
+        return;
+      }
+    }
+  }
+
+  /// Remove-one-hit-and-refit recovery (paper 4.1.1): the best candidate
+  /// with one hit removed, if it passes the cuts.
+  bool recover(const std::vector<ConfIndex>& hits,
+               std::vector<TrackCandidate>& candidates) {
+    if (hits.size() <= m_step.minHits) {
+      return false;
+    }
+    TrackCandidate best;
+    bool found = false;
+    for (std::size_t skip = 0; skip < hits.size(); ++skip) {
+      std::vector<ConfIndex> reduced;
+      reduced.reserve(hits.size() - 1);
+      for (std::size_t k = 0; k < hits.size(); ++k) {
+        if (k != skip) {
+          reduced.push_back(hits[k]);
+        }
+      }
+      TrackCandidate cand;
+      cand.fitBackward = m_step.fitBackward;
+      if (fitCandidate(m_state, m_step, std::move(reduced), cand) &&
+          (!found || betterCandidate(cand, best))) {
+        best = std::move(cand);
+        found = true;
+      }
+    }
+    if (found) {
+      candidates.push_back(std::move(best));
+      ++m_stats.candidates;
+      ++m_stats.recovered;
+    }
+    return found;
+  }
+
+  FinderState& m_state;
+  const ConformalHits& m_hits;
+  const FindingStep& m_step;
+  const HitPool& m_pool;
+  StepStats& m_stats;
+  bool m_insideOut;
+  bool m_overflowCells = false;
+  std::vector<Cell> m_cells;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_edges;  // child, parent
+  std::unordered_map<std::uint64_t, std::uint32_t> m_lookup;
+  std::vector<ConfIndex> m_nb;
+  std::vector<std::uint32_t> m_parentBegin;
+  std::vector<std::uint32_t> m_children;
+  std::vector<std::uint32_t> m_order;
+  std::vector<std::uint32_t> m_leaves;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_stack;
+  std::vector<std::uint32_t> m_path;
+};
+
+}  // namespace
+
+void buildTracks(FinderState& state, const FindingStep& step,
+                 std::uint16_t stepIndex, const HitPool& pool,
+                 StepStats& stats) {
+  SeedAutomaton automaton(state, step, pool, stats);
+  std::vector<ConfIndex> seeds = pool.members();  // innermost first
+  if (step.direction == SearchDirection::eOutsideIn) {
+    std::reverse(seeds.begin(), seeds.end());
+  }
+  // Hits on tracks accepted in this step (they stay unused until the end
+  // of the step, as upstream, so candidates may share them).
+  std::vector<std::uint8_t> onNewTrack(state.hits.size(), 0);
+  const std::size_t firstNew = state.tracks.size();
+  std::vector<TrackCandidate> candidates;
+  for (ConfIndex seed : seeds) {
+    if (state.used[seed] != 0 || onNewTrack[seed] != 0) {
+      continue;
+    }
+    ++stats.seeds;
+    candidates.clear();
+    automaton.run(seed, candidates);
+    std::sort(candidates.begin(), candidates.end(), betterCandidate);
+    for (TrackCandidate& c : candidates) {
+      c.step = stepIndex;
+      std::vector<ConfIndex> hits = c.hits;
+      if (state.clones.offer(state.tracks, std::move(c),
+                             state.config.cloneSharedHits)) {
+        for (ConfIndex h : hits) {
+          onNewTrack[h] = 1;
+        }
+      }
+    }
+  }
+  for (std::size_t t = firstNew; t < state.tracks.size(); ++t) {
+    stats.accepted += state.tracks[t].alive ? 1 : 0;
+  }
+}
+
+}  // namespace conftrack::detail

@@ -1,0 +1,111 @@
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+
+#include "conftrack/core/Units.hpp"
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
+namespace conftrack {
+
+StepStats& StepStats::operator+=(const StepStats& o) {
+  seeds += o.seeds;
+  cells += o.cells;
+  paths += o.paths;
+  candidates += o.candidates;
+  accepted += o.accepted;
+  extendedHits += o.extendedHits;
+  hitsUsed += o.hitsUsed;
+  pathOverflows += o.pathOverflows;
+  cellOverflows += o.cellOverflows;
+  recovered += o.recovered;
+  milliseconds += o.milliseconds;
+  return *this;
+}
+
+ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
+                                           Config config)
+    : m_detector(&detector), m_config(std::move(config)) {}
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
+  const auto tEvent = Clock::now();
+  const FinderConfig& chain = m_config.chain;
+  ConformalHits conformal = makeConformalHits(hits, *m_detector);
+  double bz = chain.legacyFourTesla ? 4.0 * units::T : m_detector->bz();
+  detail::FinderState state(conformal, *m_detector, chain, bz);
+
+  FindingResult result;
+  std::optional<HitPool> pool;
+  for (std::size_t i = 0; i < chain.steps.size(); ++i) {
+    const FindingStep& step = chain.steps[i];
+    const auto tStep = Clock::now();
+    StepStats stats;
+    stats.name = step.name;
+    if (!step.collections.empty()) {
+      std::vector<ConfIndex> members;
+      for (ConfIndex h = 0; h < conformal.size(); ++h) {
+        if (state.used[h] == 0 &&
+            std::find(step.collections.begin(), step.collections.end(),
+                      conformal.subdetector[h]) != step.collections.end()) {
+          members.push_back(h);
+        }
+      }
+      pool.emplace(conformal, std::move(members));
+    }
+    if (step.build) {
+      detail::buildTracks(state, step, static_cast<std::uint16_t>(i), *pool,
+                          stats);
+    }
+    state.compact();
+    if (step.extend) {
+      detail::extendTracks(state, step, *pool, stats);
+    }
+    if (step.sort) {
+      std::sort(state.tracks.begin(), state.tracks.end(),
+                [](const TrackCandidate& a, const TrackCandidate& b) {
+                  return a.pt != b.pt ? a.pt > b.pt : a.hits < b.hits;
+                });
+      state.clones.rebuild(state.tracks);
+    }
+    // End of step: every hit on a track is used.
+    for (const TrackCandidate& t : state.tracks) {
+      for (ConfIndex h : t.hits) {
+        if (state.used[h] == 0) {
+          state.used[h] = 1;
+        }
+      }
+    }
+    stats.hitsUsed = static_cast<std::uint64_t>(
+        std::count(state.used.begin(), state.used.end(), 1));
+    stats.milliseconds = msSince(tStep);
+    result.steps.push_back(std::move(stats));
+  }
+
+  result.tracks.reserve(state.tracks.size());
+  for (const TrackCandidate& t : state.tracks) {
+    FoundTrack out;
+    out.hits.reserve(t.hits.size());
+    for (ConfIndex h : t.hits) {
+      out.hits.push_back(conformal.original[h]);
+    }
+    out.uv = t.uv;
+    out.sz = t.sz;
+    out.pt = t.pt;
+    out.charge = t.uv.charge();
+    out.step = t.step;
+    out.fitBackward = t.fitBackward;
+    result.tracks.push_back(std::move(out));
+  }
+  result.milliseconds = msSince(tEvent);
+  return result;
+}
+
+}  // namespace conftrack

@@ -1,0 +1,93 @@
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
+#include <algorithm>
+
+namespace conftrack::detail {
+
+bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b) {
+  if (a.hits.size() != b.hits.size()) {
+    return a.hits.size() > b.hits.size();
+  }
+  double qa = a.quality();
+  double qb = b.quality();
+  if (qa != qb) {
+    return qa < qb;
+  }
+  return a.hits < b.hits;
+}
+
+bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
+                       TrackCandidate candidate, std::uint32_t minShared) {
+  // Count shared hits per alive track (candidates have few hits: a small
+  // linear map beats a hash map).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> shared;
+  for (ConfIndex h : candidate.hits) {
+    for (std::uint32_t t : m_hitTracks[h]) {
+      if (!tracks[t].alive) {
+        continue;
+      }
+      auto it = std::find_if(shared.begin(), shared.end(),
+                             [t](const auto& p) { return p.first == t; });
+      if (it == shared.end()) {
+        shared.emplace_back(t, 1);
+      } else {
+        ++it->second;
+      }
+    }
+  }
+  std::vector<std::uint32_t> conflicts;
+  for (const auto& [t, n] : shared) {
+    if (n >= minShared) {
+      if (!betterCandidate(candidate, tracks[t])) {
+        return false;
+      }
+      conflicts.push_back(t);
+    }
+  }
+  for (std::uint32_t t : conflicts) {
+    tracks[t].alive = false;
+  }
+  auto index = static_cast<std::uint32_t>(tracks.size());
+  for (ConfIndex h : candidate.hits) {
+    m_hitTracks[h].push_back(index);
+  }
+  tracks.push_back(std::move(candidate));
+  return true;
+}
+
+void CloneIndex::rebuild(const std::vector<TrackCandidate>& tracks) {
+  for (auto& v : m_hitTracks) {
+    v.clear();
+  }
+  for (std::uint32_t t = 0; t < tracks.size(); ++t) {
+    for (ConfIndex h : tracks[t].hits) {
+      m_hitTracks[h].push_back(t);
+    }
+  }
+}
+
+void FinderState::compact() {
+  std::erase_if(tracks, [](const TrackCandidate& t) { return !t.alive; });
+  clones.rebuild(tracks);
+}
+
+bool fitCandidate(const FinderState& state, const FindingStep& step,
+                  std::vector<ConfIndex> hits, TrackCandidate& out) {
+  out.hits = std::move(hits);
+  out.uv = fitConformal(state.hits, out.hits, !step.straightLineFit);
+  if (!out.uv.valid) {
+    return false;
+  }
+  out.sz = fitSz(state.hits, out.hits,
+                 makeArcFrame(out.uv, state.hits, out.hits.front()));
+  if (!out.sz.valid) {
+    return false;
+  }
+  out.pt = out.uv.pt(state.bzForPt);
+  if (out.sz.chi2PerNdf() > step.chi2Cut) {
+    return false;
+  }
+  return step.onlySzChi2Cut || out.uv.chi2PerNdf() <= step.chi2Cut;
+}
+
+}  // namespace conftrack::detail

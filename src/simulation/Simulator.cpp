@@ -1,0 +1,212 @@
+#include "conftrack/simulation/Simulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "conftrack/simulation/HitSmearing.hpp"
+#include "conftrack/simulation/MaterialInteractions.hpp"
+#include "conftrack/simulation/generators/PdgTable.hpp"
+
+namespace conftrack {
+
+namespace {
+
+/// Rotates the unit vector `dir` by two projected angles theta1, theta2
+/// about two orthogonal axes perpendicular to it. Implemented as a rotation
+/// by the space angle theta = hypot(theta1, theta2) towards the azimuth
+/// atan2(theta2, theta1), which is well defined for any angle and equals
+/// the two projected rotations to O(theta^2).
+Vector3 deflect(const Vector3& dir, double theta1, double theta2) {
+  const double theta = std::hypot(theta1, theta2);
+  if (theta == 0.0) {
+    return dir;
+  }
+  const double dt = dir.head<2>().norm();
+  // e1 horizontal and perpendicular to dir, e2 = dir x e1.
+  const Vector3 e1 =
+      dt > 0.0 ? Vector3(-dir.y() / dt, dir.x() / dt, 0.0) : Vector3::UnitX();
+  const Vector3 e2 = dir.cross(e1);
+  const double sinOverTheta = std::sin(theta) / theta;
+  Vector3 out = std::cos(theta) * dir +
+                sinOverTheta * (theta1 * e1 + theta2 * e2);
+  return out.normalized();
+}
+
+}  // namespace
+
+Simulator::Simulator(const Detector& detector)
+    : Simulator(detector, Config()) {}
+
+Simulator::Simulator(const Detector& detector, const Config& config)
+    : m_config(config),
+      m_bz(detector.bz()),
+      m_envelopeR(detector.envelopeR()),
+      m_envelopeZ(detector.envelopeZ()),
+      m_layers(detector.layers()),
+      m_navigator(detector) {
+  if (!(m_config.minMomentum >= 0.0)) {
+    throw std::invalid_argument("Simulator: minMomentum must be >= 0");
+  }
+  if (!(m_config.maxTurns > 0.0)) {
+    throw std::invalid_argument("Simulator: maxTurns must be positive");
+  }
+  if (m_config.maxSmearAttempts == 0 || m_config.maxCrossings == 0) {
+    throw std::invalid_argument(
+        "Simulator: maxSmearAttempts and maxCrossings must be positive");
+  }
+  if (!(m_config.minCosIncidence > 0.0 && m_config.minCosIncidence <= 1.0)) {
+    throw std::invalid_argument(
+        "Simulator: minCosIncidence must be in (0, 1]");
+  }
+}
+
+double Simulator::massOf(std::int32_t pdg) {
+  return pdg::mass(pdg).value_or(constants::kPionMass);
+}
+
+void Simulator::simulate(const std::vector<Particle>& particles,
+                         RandomEngine& rng, Event& out) const {
+  // One distribution for the whole call: its cached second value is part of
+  // the (deterministic) state.
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uint64_t nextHitId = 1;
+  for (const Hit& h : out.hits) {
+    nextHitId = std::max(nextHitId, h.id + 1);
+  }
+  out.particles.reserve(out.particles.size() + particles.size());
+  for (const Particle& particle : particles) {
+    Particle copy = particle;
+    copy.nHits = 0;
+    if (particle.isStable() && particle.charge != 0.0) {
+      copy.nHits = simulateParticle(particle, rng, normal, nextHitId, out);
+    }
+    out.particles.push_back(copy);
+  }
+  if (!std::is_sorted(out.particles.begin(), out.particles.end(),
+                      [](const Particle& a, const Particle& b) {
+                        return a.id < b.id;
+                      })) {
+    out.sortParticles();
+  }
+}
+
+std::uint32_t Simulator::simulateParticle(
+    const Particle& particle, RandomEngine& rng,
+    std::normal_distribution<double>& normal, std::uint64_t& nextHitId,
+    Event& out) const {
+  Vector3 position = particle.vertex;
+  if (!(position.head<2>().norm() < m_envelopeR &&
+        std::abs(position.z()) < m_envelopeZ)) {
+    return 0;  // produced outside the tracker
+  }
+  const double charge = particle.charge;
+  const double mass = massOf(particle.pdg);
+  const bool isElectron = std::abs(particle.pdg) == 11;
+  Vector3 momentum = particle.momentum;
+  double p = momentum.norm();
+  if (!(p >= m_config.minMomentum) || momentum.head<2>().squaredNorm() == 0.0) {
+    return 0;
+  }
+  double energy = std::hypot(p, mass);
+  double time = particle.time;
+  double turns = 0.0;
+  std::uint32_t nHits = 0;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+
+  for (unsigned crossing = 0; crossing < m_config.maxCrossings; ++crossing) {
+    const Helix helix(position, momentum, charge, m_bz);
+    // Path limit: the envelope exit (cylinder or end plane) and the turns
+    // left.
+    double sLimit =
+        helix.nextCylinderCrossing(m_envelopeR, -kInf, kInf, 0.0, kInf);
+    if (helix.tanLambda() != 0.0) {
+      const double zEnd = helix.tanLambda() > 0.0 ? m_envelopeZ : -m_envelopeZ;
+      sLimit = std::min(sLimit, (zEnd - position.z()) / helix.tanLambda());
+    }
+    if (helix.omega() != 0.0) {
+      sLimit = std::min(sLimit, (m_config.maxTurns - turns) * helix.period());
+    }
+    const SurfaceCrossing next =
+        m_navigator.nextCrossing(helix, kMinStep, sLimit);
+    if (!next.found()) {
+      break;  // leaves the tracker or has looped enough
+    }
+    const double s = next.s;
+    position = helix.position(s);
+    const Vector3 momentumIn = helix.momentum(s);
+    const double beta = p / energy;
+    time += helix.pathLength(s) / (beta * constants::c);
+    turns += s * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
+
+    const NavigationSurface& surface = m_navigator.surfaces()[next.surface];
+    if (surface.isSensitive()) {
+      const SensitiveLayer& layer =
+          m_layers[static_cast<std::size_t>(surface.layer)];
+      Vector3 measured = position;
+      if (!m_config.smearHits ||
+          smearHitPosition(layer, position, rng, normal,
+                           m_config.maxSmearAttempts, measured)) {
+        Hit hit;
+        hit.id = nextHitId++;
+        hit.position = measured;
+        hit.detId = layer.id;
+        hit.detId.module = layer.moduleAt(position);
+        layer.localAxes(measured, hit.uAxis, hit.vAxis);
+        hit.sigmaU = layer.sigmaU;
+        hit.sigmaV = layer.sigmaV;
+        out.hits.push_back(hit);
+        HitTruth truth;
+        truth.particleId = particle.id;
+        truth.position = position;
+        truth.momentum = momentumIn;
+        truth.time = time;
+        out.truth.push_back(truth);
+        ++nHits;
+      }
+    }
+
+    // Material of the surface, traversed at the actual angle.
+    Vector3 direction = momentumIn / p;
+    if (surface.thicknessX0 > 0.0 &&
+        (m_config.multipleScattering || m_config.energyLoss)) {
+      const double cosIncidence = std::max(
+          std::abs(direction.dot(surface.normal(position))),
+          m_config.minCosIncidence);
+      const double xOverX0 = surface.thicknessX0 / cosIncidence;
+      if (m_config.multipleScattering) {
+        const double theta0 =
+            isElectron ? rossiGreisenTheta0(p, charge, xOverX0)
+                       : highlandTheta0(p, beta, charge, xOverX0);
+        const double theta1 = theta0 * normal(rng);
+        const double theta2 = theta0 * normal(rng);
+        direction = deflect(direction, theta1, theta2);
+      }
+      if (m_config.energyLoss) {
+        energy -= betheMeanEnergyLoss(p, mass, charge, xOverX0);
+        if (isElectron && m_config.bremsstrahlung && energy > mass) {
+          // E_after/E_before = exp(-y), y ~ Gamma(t/ln2, 1).
+          std::gamma_distribution<double> gamma(betheHeitlerShape(xOverX0),
+                                                1.0);
+          energy *= std::exp(-gamma(rng));
+        }
+        if (!(energy > mass)) {
+          break;  // stopped in the material
+        }
+        p = std::sqrt((energy - mass) * (energy + mass));
+        if (p < m_config.minMomentum) {
+          break;
+        }
+      }
+    }
+    momentum = p * direction;
+    if (momentum.head<2>().squaredNorm() == 0.0) {
+      break;  // scattered exactly along z: no helix
+    }
+  }
+  return nHits;
+}
+
+}  // namespace conftrack

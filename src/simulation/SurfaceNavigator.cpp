@@ -1,0 +1,191 @@
+#include "conftrack/simulation/SurfaceNavigator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace conftrack {
+
+Vector3 NavigationSurface::normal(const Vector3& position) const {
+  if (shape == SurfaceShape::eDisk) {
+    return Vector3::UnitZ();
+  }
+  const double r = position.head<2>().norm();
+  const double c = r > 0.0 ? position.x() / r : 1.0;
+  const double s = r > 0.0 ? position.y() / r : 0.0;
+  if (shape == SurfaceShape::eCylinder) {
+    return {c, s, 0.0};
+  }
+  const double norm = 1.0 / std::sqrt(1.0 + coneSlope * coneSlope);
+  return {c * norm, s * norm, -coneSlope * norm};
+}
+
+SurfaceNavigator::SurfaceNavigator(const Detector& detector) {
+  for (std::size_t i = 0; i < detector.layers().size(); ++i) {
+    const SensitiveLayer& l = detector.layers()[i];
+    NavigationSurface s;
+    s.shape = l.shape;
+    s.r = l.r;
+    s.zMin = l.zMin;
+    s.zMax = l.zMax;
+    s.rMin = l.rMin;
+    s.rMax = l.rMax;
+    s.thicknessX0 = l.thicknessX0;
+    s.layer = static_cast<std::int32_t>(i);
+    m_surfaces.push_back(s);
+  }
+  for (const PassiveSurface& p : detector.passives()) {
+    NavigationSurface s;
+    s.shape = p.shape;
+    s.r = p.r;
+    s.zMin = p.zMin;
+    s.zMax = p.zMax;
+    s.rMin = p.rMin;
+    s.rMax = p.rMax;
+    s.thicknessX0 = p.thicknessX0;
+    if (p.shape == SurfaceShape::eCone) {
+      s.coneR1 = p.coneR1;
+      s.coneSlope = (p.coneR2 - p.coneR1) / (p.zMax - p.zMin);
+    }
+    m_surfaces.push_back(s);
+  }
+  for (std::uint32_t i = 0; i < m_surfaces.size(); ++i) {
+    switch (m_surfaces[i].shape) {
+      case SurfaceShape::eCylinder:
+        m_cylinders.push_back(i);
+        break;
+      case SurfaceShape::eDisk:
+        m_disks.push_back(i);
+        break;
+      case SurfaceShape::eCone:
+        m_cones.push_back(i);
+        break;
+    }
+  }
+  // Stable sorts keep the build order for equal keys, so the search result
+  // for coincident surfaces is deterministic.
+  std::stable_sort(m_cylinders.begin(), m_cylinders.end(),
+                   [this](std::uint32_t a, std::uint32_t b) {
+                     return m_surfaces[a].r < m_surfaces[b].r;
+                   });
+  std::stable_sort(m_disks.begin(), m_disks.end(),
+                   [this](std::uint32_t a, std::uint32_t b) {
+                     return m_surfaces[a].zMin < m_surfaces[b].zMin;
+                   });
+  for (std::uint32_t i : m_cylinders) {
+    m_cylinderRadii.push_back(m_surfaces[i].r);
+  }
+  for (std::uint32_t i : m_disks) {
+    m_diskZ.push_back(m_surfaces[i].zMin);
+  }
+}
+
+SurfaceCrossing SurfaceNavigator::nextCrossing(const Helix& helix,
+                                               double sMin,
+                                               double sMax) const {
+  SurfaceCrossing best;
+  // Only crossings strictly before sMax count.
+  double bestS = sMax;
+  auto consider = [&](double s, std::uint32_t index) {
+    if (s < bestS) {
+      bestS = s;
+      best.s = s;
+      best.surface = index;
+    }
+  };
+
+  const Vector3& origin = helix.origin();
+  const double r0 = origin.head<2>().norm();
+  const double z0 = origin.z();
+  const double tanLambda = helix.tanLambda();
+  // Radii the circle can reach, with a margin for rounding: the exact
+  // intersection decides near tangency.
+  const double margin = 1e-9 * (1.0 + r0);
+  const double reachMin = helix.minRadius() - margin;
+  const double reachMax = helix.maxRadius() + margin;
+
+  // Cylinders, outwards then inwards from r0.
+  const auto split = static_cast<std::size_t>(
+      std::lower_bound(m_cylinderRadii.begin(), m_cylinderRadii.end(), r0) -
+      m_cylinderRadii.begin());
+  for (std::size_t k = split; k < m_cylinders.size(); ++k) {
+    const double r = m_cylinderRadii[k];
+    if (r - r0 >= bestS || r > reachMax) {
+      break;
+    }
+    const NavigationSurface& c = m_surfaces[m_cylinders[k]];
+    consider(helix.nextCylinderCrossing(r, c.zMin, c.zMax, sMin, bestS),
+             m_cylinders[k]);
+  }
+  for (std::size_t k = split; k-- > 0;) {
+    const double r = m_cylinderRadii[k];
+    if (r0 - r >= bestS || r < reachMin) {
+      break;
+    }
+    const NavigationSurface& c = m_surfaces[m_cylinders[k]];
+    consider(helix.nextCylinderCrossing(r, c.zMin, c.zMax, sMin, bestS),
+             m_cylinders[k]);
+  }
+
+  // Disks in the direction of motion along z.
+  if (tanLambda > 0.0) {
+    auto first = static_cast<std::size_t>(
+        std::upper_bound(m_diskZ.begin(), m_diskZ.end(), z0) -
+        m_diskZ.begin());
+    for (std::size_t k = first; k < m_disks.size(); ++k) {
+      if ((m_diskZ[k] - z0) / tanLambda >= bestS) {
+        break;
+      }
+      const NavigationSurface& d = m_surfaces[m_disks[k]];
+      if (d.rMax < reachMin || d.rMin > reachMax) {
+        continue;
+      }
+      consider(helix.nextDiskCrossing(d.zMin, d.rMin, d.rMax, sMin, bestS),
+               m_disks[k]);
+    }
+  } else if (tanLambda < 0.0) {
+    auto last = static_cast<std::size_t>(
+        std::lower_bound(m_diskZ.begin(), m_diskZ.end(), z0) -
+        m_diskZ.begin());
+    for (std::size_t k = last; k-- > 0;) {
+      if ((m_diskZ[k] - z0) / tanLambda >= bestS) {
+        break;
+      }
+      const NavigationSurface& d = m_surfaces[m_disks[k]];
+      if (d.rMax < reachMin || d.rMin > reachMax) {
+        continue;
+      }
+      consider(helix.nextDiskCrossing(d.zMin, d.rMin, d.rMax, sMin, bestS),
+               m_disks[k]);
+    }
+  }
+
+  // Cones: cheap bounds first (z window ahead, radial gap), then the search
+  // limited to the best crossing so far.
+  for (std::uint32_t index : m_cones) {
+    const NavigationSurface& c = m_surfaces[index];
+    if (c.rMax < reachMin || c.rMin > reachMax) {
+      continue;
+    }
+    double lowerBound = std::max({0.0, c.rMin - r0, r0 - c.rMax});
+    if (tanLambda != 0.0) {
+      const double s1 = (c.zMin - z0) / tanLambda;
+      const double s2 = (c.zMax - z0) / tanLambda;
+      if (std::max(s1, s2) <= sMin) {
+        continue;
+      }
+      lowerBound = std::max(lowerBound, std::min(s1, s2));
+    } else if (z0 < c.zMin || z0 > c.zMax) {
+      continue;
+    }
+    if (lowerBound >= bestS) {
+      continue;
+    }
+    consider(helix.nextConeCrossing(c.zMin, c.zMax, c.coneR1, c.coneSlope,
+                                    sMin, bestS),
+             index);
+  }
+  return best;
+}
+
+}  // namespace conftrack
