@@ -21,13 +21,20 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-/// Shortens long field text in messages so that they stay one line.
+/// Shortens long field text in messages and masks control characters, so
+/// that messages stay one printable line.
 std::string excerpt(std::string_view s) {
   constexpr std::size_t kMax = 40;
-  if (s.size() <= kMax) {
-    return std::string(s);
+  std::string out(s.substr(0, kMax));
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      c = '?';
+    }
   }
-  return std::string(s.substr(0, kMax)) + "...";
+  if (s.size() > kMax) {
+    out += "...";
+  }
+  return out;
 }
 
 }  // namespace
@@ -59,7 +66,7 @@ CsvReader::CsvReader(std::string text, std::string fileName)
     }
     if (std::find(m_columns.begin(), m_columns.end(), name) !=
         m_columns.end()) {
-      fail("duplicate column '" + std::string(name) + "' in the header");
+      fail("duplicate column '" + excerpt(name) + "' in the header");
     }
     m_columns.emplace_back(name);
   }

@@ -15,12 +15,12 @@
 // - a seed that is already on a track accepted in this step is skipped: its
 //   candidates would be subsets of that track and lose the clone treatment.
 
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <unordered_map>
-
-#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 namespace conftrack::detail {
 
@@ -125,7 +125,8 @@ class SeedAutomaton {
       if (length > m_step.maxDistance) {
         continue;
       }
-      m_lookup.emplace(key(seed, n), static_cast<std::uint32_t>(m_cells.size()));
+      m_lookup.emplace(key(seed, n),
+                       static_cast<std::uint32_t>(m_cells.size()));
       m_cells.push_back(makeCell(seed, n, 0));
     }
   }
@@ -153,8 +154,7 @@ class SeedAutomaton {
           auto it = m_lookup.find(key(last, n));
           if (it != m_lookup.end()) {
             if (anglesPass(parent, m_cells[it->second])) {
-              m_edges.emplace_back(it->second,
-                                   static_cast<std::uint32_t>(ci));
+              m_edges.emplace_back(it->second, static_cast<std::uint32_t>(ci));
             }
             continue;
           }
@@ -197,15 +197,15 @@ class SeedAutomaton {
     // their start hit is a topological order.
     m_order.resize(n);
     std::iota(m_order.begin(), m_order.end(), 0);
-    std::sort(m_order.begin(), m_order.end(), [&](std::uint32_t a,
-                                                  std::uint32_t b) {
-      ConfIndex sa = m_cells[a].start;
-      ConfIndex sb = m_cells[b].start;
-      if (sa != sb) {
-        return m_insideOut ? sa < sb : sa > sb;
-      }
-      return a < b;
-    });
+    std::sort(m_order.begin(), m_order.end(),
+              [&](std::uint32_t a, std::uint32_t b) {
+                ConfIndex sa = m_cells[a].start;
+                ConfIndex sb = m_cells[b].start;
+                if (sa != sb) {
+                  return m_insideOut ? sa < sb : sa > sb;
+                }
+                return a < b;
+              });
     for (std::uint32_t c : m_order) {
       std::uint32_t w = 0;
       for (std::uint32_t k = m_parentBegin[c]; k < m_parentBegin[c + 1]; ++k) {
@@ -324,8 +324,7 @@ class SeedAutomaton {
         ++m_stats.candidates;
         return;
       }
-      if (len == chain.size() && m_step.recovery &&
-          recover(hits, candidates)) {
+      if (len == chain.size() && m_step.recovery && recover(hits, candidates)) {
         return;
       }
     }
@@ -372,7 +371,8 @@ class SeedAutomaton {
   bool m_insideOut;
   bool m_overflowCells = false;
   std::vector<Cell> m_cells;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_edges;  // child, parent
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>
+      m_edges;  // child, parent
   std::unordered_map<std::uint64_t, std::uint32_t> m_lookup;
   std::vector<ConfIndex> m_nb;
   std::vector<std::uint32_t> m_parentBegin;

@@ -1,11 +1,11 @@
 #include "conftrack/reconstruction/finding/ConformalFit.hpp"
 
-#include <cmath>
-#include <numbers>
+#include "conftrack/core/Units.hpp"
 
 #include <Eigen/LU>
 
-#include "conftrack/core/Units.hpp"
+#include <cmath>
+#include <numbers>
 
 namespace conftrack {
 
@@ -226,8 +226,8 @@ SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
     for (std::size_t k = 0; k < track.size(); ++k) {
       ConfIndex i = track[k];
       double t = pass == 0 ? 1.0 : params(1);
-      double var = std::max(hits.varZ[i] + t * t * hits.varRxy[i],
-                            kMinZVariance);
+      double var =
+          std::max(hits.varZ[i] + t * t * hits.varRxy[i], kMinZVariance);
       Eigen::Vector2d h(1.0, s[k]);
       normal += h * h.transpose() / var;
       rhs += hits.z[i] * h / var;
@@ -242,8 +242,7 @@ SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
   double chi2 = 0.0;
   for (std::size_t k = 0; k < track.size(); ++k) {
     ConfIndex i = track[k];
-    double var = std::max(hits.varZ[i] + params(1) * params(1) *
-                                             hits.varRxy[i],
+    double var = std::max(hits.varZ[i] + params(1) * params(1) * hits.varRxy[i],
                           kMinZVariance);
     double e = hits.z[i] - (params(0) + params(1) * s[k]);
     chi2 += e * e / var;

@@ -1,11 +1,11 @@
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
 
+#include "conftrack/core/Error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <string>
-
-#include "conftrack/core/Error.hpp"
 
 namespace conftrack {
 

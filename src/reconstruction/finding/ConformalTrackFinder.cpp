@@ -1,11 +1,11 @@
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 
+#include "conftrack/core/Units.hpp"
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <optional>
-
-#include "conftrack/core/Units.hpp"
-#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 namespace conftrack {
 

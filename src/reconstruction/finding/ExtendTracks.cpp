@@ -13,11 +13,11 @@
 // in O(1) per hit. Of the layers with compatible hits, the one crossed
 // first along the track is taken, with its hit of lowest chi2_uv increase.
 
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 namespace conftrack::detail {
 
@@ -39,7 +39,10 @@ class Extender {
  public:
   Extender(FinderState& state, const FindingStep& step, const HitPool& pool,
            StepStats& stats)
-      : m_state(state), m_hits(state.hits), m_step(step), m_pool(pool),
+      : m_state(state),
+        m_hits(state.hits),
+        m_step(step),
+        m_pool(pool),
         m_stats(stats) {}
 
   /// Extends track t. `catchAll` selects the loose low-pT pass.
@@ -48,8 +51,7 @@ class Extender {
     if (track.hits.size() < 3) {
       return;
     }
-    ConformalFitResult uv =
-        fitConformal(m_hits, track.hits, true, &track.uv);
+    ConformalFitResult uv = fitConformal(m_hits, track.hits, true, &track.uv);
     if (!uv.valid) {
       return;
     }
@@ -106,8 +108,8 @@ class Extender {
             double dr = m_hits.radius[h] - m_hits.radius[last];
             double lr = std::hypot(dz, dr);
             if (rzNorm > 0.0 && lr > 0.0 &&
-                angleBetween(rzDz / rzNorm, rzDr / rzNorm, dz / lr,
-                             dr / lr) > factor * m_step.maxCellAngleRZ) {
+                angleBetween(rzDz / rzNorm, rzDr / rzNorm, dz / lr, dr / lr) >
+                    factor * m_step.maxCellAngleRZ) {
               continue;
             }
             double dUv = uv.deltaChi2(m_hits, h);
@@ -115,17 +117,16 @@ class Extender {
             if (!(s > sLast)) {
               continue;
             }
-            double dSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h],
-                                      m_hits.varRxy[h]);
+            double dSz =
+                sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h]);
             if (increase(uv.chi2, uv.ndf, dUv) > m_step.chi2Cut ||
                 increase(sz.chi2, sz.ndf, dSz) > m_step.chi2Cut) {
               continue;
             }
             // First layer along the track; on it the lowest chi2 increase.
-            bool better =
-                !found || p.s < bestS - 1e-6 ||
-                (std::abs(p.s - bestS) <= 1e-6 &&
-                 (dUv < bestChi2 || (dUv == bestChi2 && h < best)));
+            bool better = !found || p.s < bestS - 1e-6 ||
+                          (std::abs(p.s - bestS) <= 1e-6 &&
+                           (dUv < bestChi2 || (dUv == bestChi2 && h < best)));
             if (better) {
               found = true;
               best = h;
@@ -178,8 +179,8 @@ class Extender {
   }
 
   /// Crossings of `layer` after arc length sLast (within one turn).
-  void predict(std::uint32_t layer, const ArcFrame& arc,
-               const SzFitResult& sz, double sLast, bool catchAll) {
+  void predict(std::uint32_t layer, const ArcFrame& arc, const SzFitResult& sz,
+               double sLast, bool catchAll) {
     m_predictions.clear();
     const SensitiveLayer& l = m_state.detector.layers()[layer];
     const double turn = 2.0 * std::numbers::pi * arc.radius;

@@ -1,6 +1,5 @@
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 
-
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
@@ -49,20 +48,21 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
                  : a == "sort"   ? &s.sort
                                  : nullptr;
     if (flag == nullptr) {
-      t.fail("actions", "unknown action \"" + a +
-                            "\" (expected build, extend, sort)");
+      t.fail("actions",
+             "unknown action \"" + a + "\" (expected build, extend, sort)");
     }
     if (*flag) {
       t.fail("actions", "action \"" + a + "\" listed twice");
     }
     *flag = true;
   }
-  s.maxCellAngle = t.getDouble("max_cell_angle", Range{0.0, 3.14159, false, true});
+  s.maxCellAngle =
+      t.getDouble("max_cell_angle", Range{0.0, 3.14159, false, true});
   s.maxCellAngleRZ =
       t.getDouble("max_cell_angle_rz", Range{0.0, 3.14159, false, true});
   s.chi2Cut = t.getDouble("chi2_cut", Range::positive());
-  s.minHits = static_cast<std::uint32_t>(
-      t.getInt("min_hits", Range::closed(3, 100)));
+  s.minHits =
+      static_cast<std::uint32_t>(t.getInt("min_hits", Range::closed(3, 100)));
   s.maxDistance = t.getDouble("max_distance", Range{0.0, 1.0, false, true});
   s.slopeZRange = t.getDouble("slope_z_range", Range::positive());
   s.highPtCut = t.getDouble("high_pt_cut_GeV", Range::nonNegative());
@@ -117,8 +117,8 @@ FinderConfig parseChain(std::string_view text, const std::string& sourceName,
     cfg.steps.push_back(readStep(steps[i], detector, i == 0));
     for (std::size_t j = 0; j + 1 < cfg.steps.size(); ++j) {
       if (cfg.steps[j].name == cfg.steps.back().name) {
-        steps[i].fail("name", "duplicate step name '" +
-                                  cfg.steps.back().name + "'");
+        steps[i].fail("name",
+                      "duplicate step name '" + cfg.steps.back().name + "'");
       }
     }
   }

@@ -1,10 +1,10 @@
 #include "conftrack/reconstruction/finding/HitPool.hpp"
 
+#include <nanoflann.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include <nanoflann.hpp>
 
 namespace conftrack {
 

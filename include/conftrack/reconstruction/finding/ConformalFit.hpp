@@ -13,10 +13,10 @@
 /// increment of adding one point, e^2 / (sigma_e^2 + h^T C h), so that
 /// extensions test a hit in O(1) without refitting.
 
-#include <span>
-
 #include "conftrack/core/Types.hpp"
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
+
+#include <span>
 
 namespace conftrack {
 

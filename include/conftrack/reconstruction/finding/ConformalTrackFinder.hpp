@@ -4,13 +4,13 @@
 /// The conformal-tracking pattern recognition (paper 4.1): runs the chain
 /// of steps on the hits of one event. Truth is never used.
 
-#include <span>
-#include <vector>
-
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
+
+#include <span>
+#include <vector>
 
 namespace conftrack {
 

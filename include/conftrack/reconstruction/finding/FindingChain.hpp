@@ -4,12 +4,12 @@
 /// The configurable chain of conformal-tracking steps (algorithm.md 3, 12,
 /// 13) and its TOML reader (format: README "Chain files").
 
+#include "conftrack/geometry/Detector.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include "conftrack/geometry/Detector.hpp"
 
 namespace conftrack {
 

@@ -7,10 +7,10 @@
 /// so that the output never depends on the tree's internal order
 /// (algorithm.md 2.4 and 14.2).
 
+#include "conftrack/reconstruction/finding/ConformalHits.hpp"
+
 #include <memory>
 #include <vector>
-
-#include "conftrack/reconstruction/finding/ConformalHits.hpp"
 
 namespace conftrack {
 

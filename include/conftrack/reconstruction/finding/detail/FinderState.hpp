@@ -4,14 +4,14 @@
 /// Per-event state of the conformal finder (internal). The finder object is
 /// const; everything that changes during an event lives here.
 
-#include <cstdint>
-#include <vector>
-
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/HitPool.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
+
+#include <cstdint>
+#include <vector>
 
 namespace conftrack::detail {
 
@@ -48,9 +48,13 @@ struct FinderState {
   std::vector<TrackCandidate> tracks;
   CloneIndex clones;
 
-  FinderState(const ConformalHits& h, const Detector& d,
-              const FinderConfig& c, double bz)
-      : hits(h), detector(d), config(c), bzForPt(bz), used(h.size(), 0),
+  FinderState(const ConformalHits& h, const Detector& d, const FinderConfig& c,
+              double bz)
+      : hits(h),
+        detector(d),
+        config(c),
+        bzForPt(bz),
+        used(h.size(), 0),
         clones(h.size()) {}
   /// Removes dead tracks and re-indexes.
   void compact();

@@ -1,0 +1,131 @@
+#include "conftrack/core/Error.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+
+#include <gtest/gtest.h>
+
+namespace conftrack {
+namespace {
+
+const std::string kStep = R"([[step]]
+name = "S0"
+collections = ["VertexBarrel"]
+actions = ["build"]
+max_cell_angle = 0.005
+max_cell_angle_rz = 0.005
+chi2_cut = 100.0
+min_hits = 4
+max_distance = 0.02
+slope_z_range = 10.0
+high_pt_cut_GeV = 10.0
+)";
+
+std::string errorOf(const std::string& text) {
+  static const Detector det = loadDetector("clicdet");
+  try {
+    parseChain(text, "chain.toml", det);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string with(const std::string& from, const std::string& to) {
+  std::string s = kStep;
+  auto pos = s.find(from);
+  EXPECT_NE(pos, std::string::npos);
+  return s.replace(pos, from.size(), to);
+}
+
+TEST(Chain, ShippedChainsMatchTheReference) {
+  Detector clic = loadDetector("clicdet");
+  FinderConfig c = readChain(resolveChainPath("clicdet"), clic);
+  ASSERT_EQ(c.steps.size(), 6u);
+  // algorithm.md 13.1 (CLICPerformance at HEAD).
+  EXPECT_EQ(c.steps[0].name, "VXDBarrel");
+  EXPECT_DOUBLE_EQ(c.steps[0].maxCellAngle, 0.005);
+  EXPECT_TRUE(c.steps[0].build && !c.steps[0].radialSearch);
+  EXPECT_TRUE(c.steps[1].extend && !c.steps[1].build);
+  EXPECT_DOUBLE_EQ(c.steps[1].highPtCut, 0.0);
+  EXPECT_TRUE(c.steps[3].collections.empty() && c.steps[3].sort);
+  EXPECT_DOUBLE_EQ(c.steps[3].chi2Cut, 2000.0);
+  EXPECT_EQ(c.steps[4].collections.size(), 4u);
+  EXPECT_EQ(c.steps[5].minHits, 5u);
+  EXPECT_DOUBLE_EQ(c.steps[5].maxDistance, 0.015);
+  EXPECT_EQ(c.steps[5].direction, SearchDirection::eOutsideIn);
+  EXPECT_TRUE(c.steps[5].onlySzChi2Cut && !c.steps[5].straightLineFit);
+  EXPECT_DOUBLE_EQ(c.thetaRange, 0.05);
+
+  Detector cld = loadDetector("cld");
+  FinderConfig d = readChain(resolveChainPath("cld"), cld);
+  ASSERT_EQ(d.steps.size(), 6u);
+  // algorithm.md 13.2 (CLDConfig).
+  EXPECT_DOUBLE_EQ(d.steps[0].maxDistance, 0.05);
+  EXPECT_DOUBLE_EQ(d.steps[3].maxCellAngle, 0.1);
+  EXPECT_DOUBLE_EQ(d.steps[4].highPtCut, 1.0);
+  EXPECT_DOUBLE_EQ(d.steps[5].maxDistance, 0.015);
+}
+
+TEST(Chain, MinimalStepParses) { EXPECT_EQ(errorOf(kStep), ""); }
+
+TEST(Chain, UnknownKey) {
+  std::string msg = errorOf(with("min_hits = 4", "min_hits = 4\nspeed = 3"));
+  EXPECT_EQ(msg, "chain.toml:9: key 'step[0].speed': unknown key");
+}
+
+TEST(Chain, UnknownCollection) {
+  std::string msg = errorOf(with("\"VertexBarrel\"", "\"Calorimeter\""));
+  EXPECT_NE(msg.find("chain.toml:3: key 'step[0].collections': detector "
+                     "'CLICdet' has no subdetector 'Calorimeter'"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(Chain, NonsenseValues) {
+  EXPECT_NE(errorOf(with("chi2_cut = 100.0", "chi2_cut = -1.0"))
+                .find("chain.toml:7: key 'step[0].chi2_cut': value -1 out "
+                      "of range"),
+            std::string::npos);
+  EXPECT_NE(errorOf(with("min_hits = 4", "min_hits = 2")).find("min_hits"),
+            std::string::npos);
+  EXPECT_NE(errorOf(with("max_distance = 0.02", "max_distance = 0.0"))
+                .find("max_distance"),
+            std::string::npos);
+  EXPECT_NE(errorOf(with("max_cell_angle = 0.005", "max_cell_angle = nan"))
+                .find("finite"),
+            std::string::npos);
+}
+
+TEST(Chain, BadActionsAndFlags) {
+  EXPECT_NE(errorOf(with("[\"build\"]", "[\"fly\"]")).find("unknown action"),
+            std::string::npos);
+  EXPECT_NE(errorOf(with("[\"build\"]", "[]")).find("actions"),
+            std::string::npos);
+  EXPECT_NE(errorOf(kStep + "direction = \"sideways\"\n").find("direction"),
+            std::string::npos);
+  EXPECT_NE(errorOf(kStep + "radial_search = 1\n").find("true or false"),
+            std::string::npos);
+}
+
+TEST(Chain, MissingParameter) {
+  std::string msg = errorOf(with("slope_z_range = 10.0\n", ""));
+  EXPECT_NE(msg.find("'step[0].slope_z_range': missing"), std::string::npos)
+      << msg;
+}
+
+TEST(Chain, FirstStepNeedsCollections) {
+  std::string msg = errorOf(with("[\"VertexBarrel\"]", "[]"));
+  EXPECT_NE(msg.find("first step"), std::string::npos) << msg;
+}
+
+TEST(Chain, DuplicateStepAndEmptyChain) {
+  EXPECT_NE(errorOf(kStep + kStep).find("duplicate step name"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[finder]\ntheta_range = 0.05\n").find("[[step]]"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[finder]\nfoo = 1\n" + kStep).find("finder.foo"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace conftrack

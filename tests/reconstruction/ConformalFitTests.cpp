@@ -1,0 +1,137 @@
+#include "conftrack/core/Error.hpp"
+#include "conftrack/reconstruction/finding/ConformalFit.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "SyntheticHits.hpp"
+
+namespace conftrack {
+namespace {
+
+using test::barrelDetector;
+using test::helixHits;
+
+std::vector<ConfIndex> allOf(const ConformalHits& ch) {
+  std::vector<ConfIndex> v(ch.size());
+  std::iota(v.begin(), v.end(), 0);
+  return v;
+}
+
+TEST(ConformalTransform, CoordinatesAndErrors) {
+  Detector det = barrelDetector();
+  std::vector<Hit> hits{test::barrelHit(det, 2, 30.0, 40.0, 7.0, 1)};
+  ConformalHits ch = makeConformalHits(hits, det);
+  // R = 50: u = x/R^2, v = y/R^2.
+  EXPECT_DOUBLE_EQ(ch.u[0], 30.0 / 2500.0);
+  EXPECT_DOUBLE_EQ(ch.v[0], 40.0 / 2500.0);
+  EXPECT_DOUBLE_EQ(ch.rc[0], 1.0 / 50.0);
+  // Numerical Jacobian: a tangential shift d moves (u, v) by d/R^2 along
+  // the tangential direction; its variance is sigma^2/R^4.
+  double d = 1e-4;
+  double x = 30.0 - d * 0.8;
+  double y = 40.0 + d * 0.6;
+  double r2 = x * x + y * y;
+  Vector2 shift(x / r2 - ch.u[0], y / r2 - ch.v[0]);
+  EXPECT_NEAR(shift.norm(), d / 2500.0, 1e-3 * d / 2500.0);
+  Matrix2 cov = ch.covariance(0);
+  Vector2 t = shift.normalized();
+  double sigma = 5e-3;
+  EXPECT_NEAR(t.dot(cov * t), sigma * sigma / (2500.0 * 2500.0),
+              1e-4 * sigma * sigma / (2500.0 * 2500.0));
+  // Barrel hits have no radial conformal error.
+  Vector2 radial(0.6, 0.8);
+  EXPECT_NEAR(radial.dot(cov * radial), 0.0, 1e-25);
+}
+
+TEST(ConformalTransform, HitOnAxisIsRejected) {
+  Detector det = barrelDetector();
+  std::vector<Hit> hits{test::barrelHit(det, 2, 0.0, 0.0, 7.0, 1)};
+  EXPECT_THROW(makeConformalHits(hits, det), InputError);
+}
+
+TEST(ConformalFit, StraightLineOnCircleThroughOrigin) {
+  Detector det = barrelDetector();
+  for (int q : {1, -1}) {
+    double rho = 2000.0;
+    std::vector<Hit> hits = helixHits(det, rho, 0.7, q, 0.5, 1);
+    ConformalHits ch = makeConformalHits(hits, det);
+    auto track = allOf(ch);
+    ConformalFitResult fit = fitConformal(ch, track, false);
+    ASSERT_TRUE(fit.valid);
+    EXPECT_EQ(fit.ndf, 6);
+    EXPECT_LT(fit.chi2, 1e-12);
+    EXPECT_NEAR(fit.radius, rho, 1e-6 * rho);
+    EXPECT_EQ(fit.charge(), q);
+    // pT = 0.3 B rho.
+    EXPECT_NEAR(fit.pt(4.0), constants::kPtPerTeslaMm * 4.0 * rho, 1e-6);
+  }
+}
+
+TEST(ConformalFit, QuadraticTermAbsorbsImpactParameter) {
+  Detector det = barrelDetector();
+  double rho = 1000.0;
+  std::vector<Hit> hits = helixHits(det, rho, 0.3, 1, 0.2, 1, 0.5);
+  ConformalHits ch = makeConformalHits(hits, det);
+  auto track = allOf(ch);
+  ConformalFitResult line = fitConformal(ch, track, false);
+  ConformalFitResult quad = fitConformal(ch, track, true);
+  ASSERT_TRUE(line.valid && quad.valid);
+  EXPECT_EQ(quad.ndf, 5);
+  // A 0.5 mm impact parameter is far outside 5 um errors for the line...
+  EXPECT_GT(line.chi2PerNdf(), 100.0);
+  // ...and mostly absorbed by the quadratic term.
+  EXPECT_LT(quad.chi2, 1e-3 * line.chi2);
+}
+
+TEST(ConformalFit, DeltaChi2MatchesRefit) {
+  Detector det = barrelDetector();
+  std::vector<Hit> hits = helixHits(det, 800.0, -2.0, -1, 1.0, 1, 0.2);
+  // Shift the last hit by 20 um along r-phi so that it costs chi2.
+  Hit& last = hits.back();
+  last.position += 0.02 * last.uAxis;
+  ConformalHits ch = makeConformalHits(hits, det);
+  auto track = allOf(ch);
+  std::vector<ConfIndex> first(track.begin(), track.end() - 1);
+  ConformalFitResult partial = fitConformal(ch, first, true);
+  ConformalFitResult full = fitConformal(ch, track, true, &partial);
+  double predicted = partial.deltaChi2(ch, track.back());
+  EXPECT_GT(predicted, 1.0);
+  EXPECT_NEAR(full.chi2 - partial.chi2, predicted, 0.02 * predicted);
+}
+
+TEST(SzFit, RecoversDipAndOffset) {
+  Detector det = barrelDetector();
+  for (double tanL : {-1.5, 0.0, 0.8}) {
+    std::vector<Hit> hits = helixHits(det, 600.0, 1.0, 1, tanL, 1);
+    ConformalHits ch = makeConformalHits(hits, det);
+    auto track = allOf(ch);
+    ConformalFitResult uv = fitConformal(ch, track, false);
+    SzFitResult sz = fitSz(ch, track, makeArcFrame(uv, ch, track.front()));
+    ASSERT_TRUE(sz.valid);
+    EXPECT_NEAR(sz.tanLambda, tanL, 1e-9);
+    // z of the first hit is its arc length times tanL; s starts there.
+    EXPECT_NEAR(sz.z0, ch.z[0], 1e-9);
+    EXPECT_LT(sz.chi2, 1e-9);
+    EXPECT_EQ(sz.ndf, 6);
+  }
+}
+
+TEST(SzFit, DegenerateIsInvalid) {
+  Detector det = barrelDetector();
+  std::vector<Hit> hits{test::barrelHit(det, 0, 30.0, 0.0, 1.0, 1),
+                        test::barrelHit(det, 0, 30.0, 0.0, 2.0, 2)};
+  // Two hits at the same point in x-y: all s equal.
+  ConformalHits ch = makeConformalHits(hits, det);
+  std::vector<ConfIndex> track{0, 1};
+  ConformalFitResult uv;
+  uv.valid = true;
+  uv.centreX = 1000.0;
+  uv.radius = 1000.0;
+  SzFitResult sz = fitSz(ch, track, makeArcFrame(uv, ch, 0));
+  EXPECT_FALSE(sz.valid);
+}
+
+}  // namespace
+}  // namespace conftrack
