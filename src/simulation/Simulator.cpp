@@ -1,14 +1,16 @@
 #include "conftrack/simulation/Simulator.hpp"
 
+#include "conftrack/simulation/HitSmearing.hpp"
+#include "conftrack/geometry/MaterialInteractions.hpp"
+#include "conftrack/simulation/generators/PdgTable.hpp"
+
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
-
-#include "conftrack/simulation/HitSmearing.hpp"
-#include "conftrack/simulation/MaterialInteractions.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
 
 namespace conftrack {
 
@@ -20,7 +22,7 @@ namespace {
 /// atan2(theta2, theta1), which is well defined for any angle and equals
 /// the two projected rotations to O(theta^2).
 Vector3 deflect(const Vector3& dir, double theta1, double theta2) {
-  const double theta = std::hypot(theta1, theta2);
+  const double theta = std::sqrt(theta1 * theta1 + theta2 * theta2);
   if (theta == 0.0) {
     return dir;
   }
@@ -30,8 +32,8 @@ Vector3 deflect(const Vector3& dir, double theta1, double theta2) {
       dt > 0.0 ? Vector3(-dir.y() / dt, dir.x() / dt, 0.0) : Vector3::UnitX();
   const Vector3 e2 = dir.cross(e1);
   const double sinOverTheta = std::sin(theta) / theta;
-  Vector3 out = std::cos(theta) * dir +
-                sinOverTheta * (theta1 * e1 + theta2 * e2);
+  Vector3 out =
+      std::cos(theta) * dir + sinOverTheta * (theta1 * e1 + theta2 * e2);
   return out.normalized();
 }
 
@@ -58,8 +60,7 @@ Simulator::Simulator(const Detector& detector, const Config& config)
         "Simulator: maxSmearAttempts and maxCrossings must be positive");
   }
   if (!(m_config.minCosIncidence > 0.0 && m_config.minCosIncidence <= 1.0)) {
-    throw std::invalid_argument(
-        "Simulator: minCosIncidence must be in (0, 1]");
+    throw std::invalid_argument("Simulator: minCosIncidence must be in (0, 1]");
   }
 }
 
@@ -85,10 +86,9 @@ void Simulator::simulate(const std::vector<Particle>& particles,
     }
     out.particles.push_back(copy);
   }
-  if (!std::is_sorted(out.particles.begin(), out.particles.end(),
-                      [](const Particle& a, const Particle& b) {
-                        return a.id < b.id;
-                      })) {
+  if (!std::is_sorted(
+          out.particles.begin(), out.particles.end(),
+          [](const Particle& a, const Particle& b) { return a.id < b.id; })) {
     out.sortParticles();
   }
 }
@@ -110,7 +110,7 @@ std::uint32_t Simulator::simulateParticle(
   if (!(p >= m_config.minMomentum) || momentum.head<2>().squaredNorm() == 0.0) {
     return 0;
   }
-  double energy = std::hypot(p, mass);
+  double energy = std::sqrt(p * p + mass * mass);
   double time = particle.time;
   double turns = 0.0;
   std::uint32_t nHits = 0;
@@ -121,7 +121,9 @@ std::uint32_t Simulator::simulateParticle(
     // Path limit: the envelope exit (cylinder or end plane) and the turns
     // left.
     double sLimit =
-        helix.nextCylinderCrossing(m_envelopeR, -kInf, kInf, 0.0, kInf);
+        helix.maxRadius() < m_envelopeR
+            ? kInf
+            : helix.nextCylinderCrossing(m_envelopeR, -kInf, kInf, 0.0, kInf);
     if (helix.tanLambda() != 0.0) {
       const double zEnd = helix.tanLambda() > 0.0 ? m_envelopeZ : -m_envelopeZ;
       sLimit = std::min(sLimit, (zEnd - position.z()) / helix.tanLambda());
@@ -135,8 +137,8 @@ std::uint32_t Simulator::simulateParticle(
       break;  // leaves the tracker or has looped enough
     }
     const double s = next.s;
-    position = helix.position(s);
-    const Vector3 momentumIn = helix.momentum(s);
+    Vector3 momentumIn;
+    helix.positionAndMomentum(s, position, momentumIn);
     const double beta = p / energy;
     time += helix.pathLength(s) / (beta * constants::c);
     turns += s * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
@@ -172,14 +174,14 @@ std::uint32_t Simulator::simulateParticle(
     Vector3 direction = momentumIn / p;
     if (surface.thicknessX0 > 0.0 &&
         (m_config.multipleScattering || m_config.energyLoss)) {
-      const double cosIncidence = std::max(
-          std::abs(direction.dot(surface.normal(position))),
-          m_config.minCosIncidence);
+      const double cosIncidence =
+          std::max(std::abs(direction.dot(surface.normal(position))),
+                   std::max(m_config.minCosIncidence, surface.grazingCos));
       const double xOverX0 = surface.thicknessX0 / cosIncidence;
       if (m_config.multipleScattering) {
-        const double theta0 =
-            isElectron ? rossiGreisenTheta0(p, charge, xOverX0)
-                       : highlandTheta0(p, beta, charge, xOverX0);
+        const double theta0 = isElectron
+                                  ? rossiGreisenTheta0(p, charge, xOverX0)
+                                  : highlandTheta0(p, beta, charge, xOverX0);
         const double theta1 = theta0 * normal(rng);
         const double theta2 = theta0 * normal(rng);
         direction = deflect(direction, theta1, theta2);

@@ -2,16 +2,17 @@
 // against the reference table, and the simulator's scattering and energy
 // loss through a single layer against the formulas.
 
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/MaterialInteractions.hpp"
+#include "conftrack/simulation/Simulator.hpp"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
-
-#include "conftrack/core/Units.hpp"
-#include "conftrack/simulation/MaterialInteractions.hpp"
-#include "conftrack/simulation/Simulator.hpp"
 
 namespace conftrack {
 namespace {
@@ -53,12 +54,13 @@ TEST(MaterialBethe, ShapeAndScaling) {
 }
 
 TEST(MaterialBethe, DensityEffectIsContinuous) {
+  // Continuous up to the rounding of the tabulated PDG parameters.
   const double x0 = kSilicon.x0;
   const double x1 = kSilicon.x1;
   for (double x : {x0, x1}) {
     const double below = densityEffect(std::pow(10.0, x - 1e-9));
     const double above = densityEffect(std::pow(10.0, x + 1e-9));
-    EXPECT_NEAR(below, above, 1e-6) << "x " << x;
+    EXPECT_NEAR(below, above, 1e-3) << "x " << x;
   }
   EXPECT_NEAR(densityEffect(std::pow(10.0, x0)), kSilicon.delta0, 1e-3);
 }
@@ -86,21 +88,21 @@ TEST(MaterialHighland, TypicalValues) {
 /// massless layer at r = 100.5 mm whose hit records the momentum that left
 /// the first (its incoming momentum).
 Detector singleLayerDetector(double thickness) {
-  std::vector<SensitiveLayer> layers;
-  Subdetector sub{"Barrel", SubdetectorKind::eBarrel, {0, 1}, 2};
-  for (int i = 0; i < 2; ++i) {
-    SensitiveLayer l;
-    l.name = "L" + std::to_string(i);
+  std::vector<SensitiveLayer> layers(2);
+  for (std::uint16_t i = 0; i < 2; ++i) {
+    SensitiveLayer& l = layers[i];
     l.id.subdetector = 0;
-    l.id.layer = static_cast<std::uint16_t>(i);
+    l.id.layer = i;
     l.shape = SurfaceShape::eCylinder;
     l.r = l.rMin = l.rMax = 100.0 + 0.5 * i;
     l.zMin = -1000.0;
     l.zMax = 1000.0;
     l.thicknessX0 = i == 0 ? thickness : 0.0;
     l.sigmaU = l.sigmaV = 0.01;
-    layers.push_back(l);
   }
+  layers[0].name = "L0";
+  layers[1].name = "L1";
+  Subdetector sub{"Barrel", SubdetectorKind::eBarrel, {0, 1}, 2};
   return Detector("OneLayer", "OneLayer", 0.0, 200.0, 1500.0, {sub}, layers,
                   {});
 }
@@ -179,8 +181,8 @@ TEST(MaterialSimulator, EnergyLossMatchesBethe) {
       ASSERT_EQ(event.truth.size(), 2u);
       const double m = constants::kMuonMass;
       const double xOverX0 = thickness / std::sin(theta);
-      const double e = std::hypot(p, m) -
-                       betheMeanEnergyLoss(p, m, -1.0, xOverX0);
+      const double e =
+          std::hypot(p, m) - betheMeanEnergyLoss(p, m, -1.0, xOverX0);
       const double expected = std::sqrt(e * e - m * m);
       EXPECT_NEAR(event.truth[0].momentum.norm(), p, 1e-12 * p);
       EXPECT_NEAR(event.truth[1].momentum.norm() / expected, 1.0, 1e-12)
@@ -214,8 +216,8 @@ TEST(MaterialSimulator, ElectronBremsstrahlungMean) {
   RandomEngine rng(11);
   simulator.simulate(particles, rng, event);
   const double me = constants::kElectronMass;
-  const double eMid = std::hypot(p, me) -
-                      betheMeanEnergyLoss(p, me, -1.0, thickness);
+  const double eMid =
+      std::hypot(p, me) - betheMeanEnergyLoss(p, me, -1.0, thickness);
   double sum = 0;
   int nOut = 0;
   for (std::size_t i = 0; i < event.truth.size(); ++i) {

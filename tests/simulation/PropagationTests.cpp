@@ -3,17 +3,21 @@
 // crossings and the cone root search against brute-force scans, and the
 // material-free simulator against the analytic helix.
 
-#include <cmath>
-#include <map>
-#include <numbers>
-#include <vector>
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/geometry/Helix.hpp"
+#include "conftrack/simulation/Simulator.hpp"
+#include "conftrack/geometry/SurfaceNavigator.hpp"
 
 #include <gtest/gtest.h>
 
-#include "conftrack/core/Units.hpp"
-#include "conftrack/geometry/DetectorReader.hpp"
-#include "conftrack/simulation/Helix.hpp"
-#include "conftrack/simulation/Simulator.hpp"
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
 
 namespace conftrack {
 namespace {
@@ -105,9 +109,8 @@ TEST(PropagationHelix, ReachableRadii) {
   double rMin = 1e9;
   double rMax = 0.0;
   for (int i = 0; i <= 100000; ++i) {
-    const double r = helix.position(helix.period() * i / 100000.0)
-                         .head<2>()
-                         .norm();
+    const double r =
+        helix.position(helix.period() * i / 100000.0).head<2>().norm();
     rMin = std::min(rMin, r);
     rMax = std::max(rMax, r);
   }
@@ -116,7 +119,8 @@ TEST(PropagationHelix, ReachableRadii) {
   // Straight line: closest approach of the line, no maximum.
   const Helix line(x0, p, -1.0, 0.0);
   const Vector3 d = p.normalized();
-  const double dca = std::abs(x0.x() * p.y() - x0.y() * p.x()) / p.head<2>().norm();
+  const double dca =
+      std::abs(x0.x() * p.y() - x0.y() * p.x()) / p.head<2>().norm();
   EXPECT_NEAR(line.minRadius(), dca, 1e-12);
   EXPECT_TRUE(std::isinf(line.maxRadius()));
   (void)d;
@@ -130,14 +134,14 @@ TEST(PropagationCylinder, FirstCrossingAgainstScan) {
   int found = 0;
   for (double charge : {1.0, -1.0}) {
     for (double pt : {0.04, 0.2, 5.0}) {
-      for (const Vector3& x0 : {Vector3(0, 0, 0), Vector3(20, -10, 3),
-                                Vector3(70, 5, -2)}) {
+      for (const Vector3& x0 :
+           {Vector3(0, 0, 0), Vector3(20, -10, 3), Vector3(70, 5, -2)}) {
         for (double phi : {0.3, 2.5, -1.8}) {
           const Vector3 p = momentumOf(pt, 1.3, phi);
           const Helix helix(x0, p, charge, 4.0 * T);
           const double sMax = 2000.0;
-          const double s = helix.nextCylinderCrossing(radius, -1e9, 1e9,
-                                                      1e-6, sMax);
+          const double s =
+              helix.nextCylinderCrossing(radius, -1e9, 1e9, 1e-6, sMax);
           const double ref = bruteForceRoot(
               [&](double t) {
                 return helix.position(t).head<2>().norm() - radius;
@@ -161,8 +165,7 @@ TEST(PropagationCylinder, LooperCrossesEveryTurn) {
   // pT = 50 MeV at 4 T: rho = 41.7 mm, reaches r = 83 mm; crosses r = 40
   // twice per turn. Successive calls starting after each crossing give
   // s_k + n * period.
-  const Helix helix(Vector3::Zero(), momentumOf(0.05, 1.5, 0.2), 1.0,
-                    4.0 * T);
+  const Helix helix(Vector3::Zero(), momentumOf(0.05, 1.5, 0.2), 1.0, 4.0 * T);
   std::vector<double> crossings;
   double s = 1e-6;
   while (true) {
@@ -179,8 +182,8 @@ TEST(PropagationCylinder, LooperCrossesEveryTurn) {
   }
   // The z window selects a later turn: z advances by period * tanL.
   const double zLate = helix.position(crossings[4]).z();
-  const double s2 = helix.nextCylinderCrossing(40.0, zLate - 1.0, zLate + 1.0,
-                                               1e-6, 1e9);
+  const double s2 =
+      helix.nextCylinderCrossing(40.0, zLate - 1.0, zLate + 1.0, 1e-6, 1e9);
   EXPECT_NEAR(s2, crossings[4], 1e-9);
 }
 
@@ -233,16 +236,14 @@ TEST(PropagationCone, FirstCrossingAgainstScan) {
     double zMin, zMax, r1, r2;
   };
   int found = 0;
-  for (const ConeCase& cone :
-       {ConeCase{337.0, 2080.0, 31.4, 237.6}, ConeCase{500.0, 900.0, 300.0,
-                                                       100.0}}) {
+  for (const ConeCase& cone : {ConeCase{337.0, 2080.0, 31.4, 237.6},
+                               ConeCase{500.0, 900.0, 300.0, 100.0}}) {
     const double slope = (cone.r2 - cone.r1) / (cone.zMax - cone.zMin);
     for (double charge : {1.0, -1.0}) {
       for (double pt : {0.03, 0.3, 3.0}) {
         for (double theta : {0.05, 0.15, 0.4}) {
           for (const Vector3& x0 : {Vector3(0, 0, 0), Vector3(40, 30, 600)}) {
-            const Helix helix(x0, momentumOf(pt, theta, 0.8), charge,
-                              4.0 * T);
+            const Helix helix(x0, momentumOf(pt, theta, 0.8), charge, 4.0 * T);
             const double sMax = 3000.0;
             auto g = [&](double s) {
               const Vector3 at = helix.position(s);
@@ -278,6 +279,90 @@ TEST(PropagationCone, FirstCrossingAgainstScan) {
     }
   }
   EXPECT_GT(found, 10);
+}
+
+TEST(PropagationNavigator, NearestCrossingMatchesBruteForce) {
+  // The pruned search equals the minimum over all surfaces, for random
+  // helices from random points in CLICdet (stiff, soft and looping).
+  const Detector detector = loadDetector("clicdet");
+  const SurfaceNavigator navigator(detector);
+  const auto& surfaces = navigator.surfaces();
+  ASSERT_EQ(surfaces.size(),
+            detector.layers().size() + detector.passives().size());
+  RandomEngine rng(77);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  int cones = 0;
+  int found = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const double r = 1400.0 * uniform(rng);
+    const double phi = 2 * kPi * uniform(rng);
+    const Vector3 x0(r * std::cos(phi), r * std::sin(phi),
+                     -2200.0 + 4400.0 * uniform(rng));
+    const double pt = std::exp(std::log(0.02) + std::log(500.0) * uniform(rng));
+    const double theta =
+        i % 3 == 0 ? 0.02 + 0.2 * uniform(rng) : 0.02 + 3.1 * uniform(rng);
+    const Helix helix(x0, momentumOf(pt, theta, 2 * kPi * uniform(rng)),
+                      uniform(rng) < 0.5 ? -1.0 : 1.0, detector.bz());
+    const double sMax = 5000.0;
+    const SurfaceCrossing nav = navigator.nextCrossing(helix, 1e-4, sMax);
+    double best = sMax;
+    std::uint32_t bestIndex = kInvalidIndex;
+    for (std::uint32_t k = 0; k < surfaces.size(); ++k) {
+      const NavigationSurface& c = surfaces[k];
+      double s = Helix::kNoCrossing;
+      switch (c.shape) {
+        case SurfaceShape::eCylinder:
+          s = helix.nextCylinderCrossing(c.r, c.zMin, c.zMax, 1e-4, sMax);
+          break;
+        case SurfaceShape::eDisk:
+          s = helix.nextDiskCrossing(c.zMin, c.rMin, c.rMax, 1e-4, sMax);
+          break;
+        case SurfaceShape::eCone:
+          s = helix.nextConeCrossing(c.zMin, c.zMax, c.coneR1, c.coneSlope,
+                                     1e-4, sMax);
+          break;
+      }
+      if (s < best) {
+        best = s;
+        bestIndex = k;
+      }
+    }
+    EXPECT_EQ(nav.surface, bestIndex) << "helix " << i;
+    if (bestIndex != kInvalidIndex) {
+      ++found;
+      EXPECT_NEAR(nav.s, best, 1e-12 * (1.0 + best));
+      cones += surfaces[bestIndex].shape == SurfaceShape::eCone;
+    }
+  }
+  EXPECT_GT(found, 2000);
+  EXPECT_GT(cones, 10);
+}
+
+TEST(PropagationNavigator, SoftForwardTrackCrossesBeamPipeCone) {
+  // Straight tracks from the IP stay on one side of the steel beam-pipe
+  // cone (its opening angle is 6.75 deg); a soft forward track, whose
+  // radius oscillates between 0 and 2 rho = 167 mm, crosses it.
+  const Detector detector = loadDetector("clicdet");
+  const SurfaceNavigator navigator(detector);
+  const Helix helix(Vector3::Zero(), momentumOf(0.1, 10.0 * degree, 0.3), 1.0,
+                    detector.bz());
+  std::vector<std::string> names;
+  double s = 0.0;
+  for (int i = 0; i < 50; ++i) {
+    const SurfaceCrossing next = navigator.nextCrossing(helix, s + 1e-4, 1e5);
+    if (!next.found() || std::abs(helix.position(next.s).z()) > 2306.0) {
+      break;
+    }
+    s = next.s;
+    const NavigationSurface& c = navigator.surfaces()[next.surface];
+    names.push_back(
+        c.isSensitive()
+            ? detector.layers()[c.layer].name
+            : detector.passives()[next.surface - detector.layers().size()]
+                  .name);
+  }
+  EXPECT_NE(std::find(names.begin(), names.end(), "BeamPipeCone_pos"),
+            names.end());
 }
 
 /// A simulator without material effects and without smearing.

@@ -4,11 +4,11 @@
 /// Gaussian smearing of a true crossing point in the local measurement
 /// frame of a sensitive layer, as DDPlanarDigiProcessor (detectors.md 1.7).
 
-#include <random>
-
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Types.hpp"
 #include "conftrack/geometry/Surfaces.hpp"
+
+#include <random>
 
 namespace conftrack {
 

@@ -1,11 +1,11 @@
 #include "conftrack/simulation/generators/GammaGammaOverlay.hpp"
 
+#include "conftrack/core/Error.hpp"
+#include "conftrack/simulation/generators/PdgTable.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <sstream>
-
-#include "conftrack/core/Error.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
 
 namespace conftrack {
 
@@ -67,9 +67,9 @@ std::vector<Particle> GammaGammaOverlay::doGenerate(
   const double tailMass = -std::expm1(-(c.ptMax - c.ptMin) / c.ptMean);
 
   std::vector<Particle> out;
-  out.reserve(static_cast<std::size_t>(c.numBunchCrossings *
-                                       c.eventsPerBunchCrossing *
-                                       (c.meanCharged + 1.0) * 1.2));
+  out.reserve(
+      static_cast<std::size_t>(c.numBunchCrossings * c.eventsPerBunchCrossing *
+                               (c.meanCharged + 1.0) * 1.2));
   for (std::size_t bx = 0; bx < c.numBunchCrossings; ++bx) {
     const double time =
         static_cast<double>(bunchCrossingOffset(bx)) * c.bunchSpacing;
@@ -91,8 +91,8 @@ std::vector<Particle> GammaGammaOverlay::doGenerate(
         } else if (r < c.kaonFraction + c.protonFraction) {
           species = pdg::kProton;
         }
-        const double pt = c.ptMin - c.ptMean * std::log1p(-uniform(rng) *
-                                                           tailMass);
+        const double pt =
+            c.ptMin - c.ptMean * std::log1p(-uniform(rng) * tailMass);
         const double eta = c.etaMax * (2.0 * uniform(rng) - 1.0);
         const double phi = std::numbers::pi * (2.0 * uniform(rng) - 1.0);
         Particle p;

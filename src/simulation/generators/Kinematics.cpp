@@ -1,5 +1,7 @@
 #include "conftrack/simulation/generators/Kinematics.hpp"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -61,9 +63,9 @@ std::pair<FourMomentum, FourMomentum> twoBodyDecay(const FourMomentum& parent,
   }
   const double sum = m1 + m2;
   const double diff = m1 - m2;
-  const double pStar = std::sqrt((bigM - sum) * (bigM + sum) *
-                                 (bigM - diff) * (bigM + diff)) /
-                       (2.0 * bigM);
+  const double pStar =
+      std::sqrt((bigM - sum) * (bigM + sum) * (bigM - diff) * (bigM + diff)) /
+      (2.0 * bigM);
   const Vector3 dir = randomDirection(rng);
   const FourMomentum d1 = FourMomentum::fromMass(pStar * dir, m1);
   const FourMomentum d2 = FourMomentum::fromMass(-pStar * dir, m2);

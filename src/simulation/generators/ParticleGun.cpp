@@ -1,11 +1,13 @@
 #include "conftrack/simulation/generators/ParticleGun.hpp"
 
+#include "conftrack/core/Error.hpp"
+#include "conftrack/simulation/generators/PdgTable.hpp"
+
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
-
-#include "conftrack/core/Error.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
+#include <string_view>
 
 namespace conftrack {
 
@@ -37,16 +39,22 @@ bool isSupportedSpecies(std::int32_t pdgCode) {
 }  // namespace
 
 std::optional<std::int32_t> particleGunPdgFromName(const std::string& name) {
-  if (name == "e-") return 11;
-  if (name == "e+") return -11;
-  if (name == "mu-") return 13;
-  if (name == "mu+") return -13;
-  if (name == "pi+") return 211;
-  if (name == "pi-") return -211;
-  if (name == "K+") return 321;
-  if (name == "K-") return -321;
-  if (name == "p") return 2212;
-  if (name == "pbar") return -2212;
+  static const std::array<std::pair<std::string_view, std::int32_t>, 10>
+      kNames = {{{"e-", 11},
+                 {"e+", -11},
+                 {"mu-", 13},
+                 {"mu+", -13},
+                 {"pi+", 211},
+                 {"pi-", -211},
+                 {"K+", 321},
+                 {"K-", -321},
+                 {"p", 2212},
+                 {"pbar", -2212}}};
+  for (const auto& [n, code] : kNames) {
+    if (n == name) {
+      return code;
+    }
+  }
   return std::nullopt;
 }
 
@@ -60,12 +68,12 @@ ParticleGun::ParticleGun(const Config& config) : m_cfg(config) {
     fail("multiplicity", "must be >= 1");
   }
   if (!(std::isfinite(c.momentumMin) && c.momentumMin > 0.0)) {
-    fail("momentumMin", "must be finite and > 0 (got " + str(c.momentumMin) +
-                            ")");
+    fail("momentumMin",
+         "must be finite and > 0 (got " + str(c.momentumMin) + ")");
   }
   if (!(std::isfinite(c.momentumMax) && c.momentumMax >= c.momentumMin)) {
-    fail("momentumMax", "must be finite and >= momentumMin (got " +
-                            str(c.momentumMax) + ")");
+    fail("momentumMax",
+         "must be finite and >= momentumMin (got " + str(c.momentumMax) + ")");
   }
   if (c.angleSampling == AngleSampling::eUniformEta) {
     if (!(std::isfinite(c.etaMin) && std::isfinite(c.etaMax))) {
@@ -142,7 +150,8 @@ std::vector<Particle> ParticleGun::doGenerate(
     const double phi = flat(c.phiMin, c.phiMax);
     double momentum = 0.0;
     if (c.logMomentum) {
-      momentum = std::exp(flat(std::log(c.momentumMin), std::log(c.momentumMax)));
+      momentum =
+          std::exp(flat(std::log(c.momentumMin), std::log(c.momentumMax)));
     } else {
       momentum = flat(c.momentumMin, c.momentumMax);
     }
@@ -156,8 +165,8 @@ std::vector<Particle> ParticleGun::doGenerate(
     if (c.rMax > 0.0) {
       // Transverse radius R along the direction: z follows as R cot(theta).
       const double r = flat(c.rMin, c.rMax);
-      p.vertex += r * Vector3(std::cos(phi), std::sin(phi),
-                              std::cos(theta) / sinTheta);
+      p.vertex +=
+          r * Vector3(std::cos(phi), std::sin(phi), std::cos(theta) / sinTheta);
     }
     particles.push_back(p);
   }

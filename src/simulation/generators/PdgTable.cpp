@@ -1,10 +1,10 @@
 #include "conftrack/simulation/generators/PdgTable.hpp"
 
+#include "conftrack/core/Units.hpp"
+
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
-
-#include "conftrack/core/Units.hpp"
 
 namespace conftrack::pdg {
 
@@ -73,7 +73,9 @@ int quarkContentThreeCharge(int absCode) {
   const int nq2 = (absCode / 100) % 10;
   const int nq1 = (absCode / 1000) % 10;
   const int nJ = absCode % 10;
-  auto q = [](int n) { return (n >= 1 && n <= 8) ? kQuarkThreeCharge[n - 1] : 0; };
+  auto q = [](int n) {
+    return (n >= 1 && n <= 8) ? kQuarkThreeCharge[n - 1] : 0;
+  };
   if (nJ == 0) {
     // Special codes such as K0L (130) or glueballs: not quark content.
     return 0;

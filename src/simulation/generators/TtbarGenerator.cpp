@@ -1,13 +1,13 @@
 #include "conftrack/simulation/generators/TtbarGenerator.hpp"
 
+#include "conftrack/core/Error.hpp"
+#include "conftrack/simulation/generators/PdgTable.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
 #include <sstream>
-
-#include "conftrack/core/Error.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
 
 namespace conftrack {
 
@@ -35,8 +35,8 @@ std::string str(double v) {
 
 void requireRange(const std::string& field, double v, double lo, double hi) {
   if (!(std::isfinite(v) && v >= lo && v <= hi)) {
-    fail(field, "must lie in [" + str(lo) + ", " + str(hi) + "] (got " +
-                    str(v) + ")");
+    fail(field,
+         "must lie in [" + str(lo) + ", " + str(hi) + "] (got " + str(v) + ")");
   }
 }
 
@@ -47,8 +47,8 @@ void requirePositive(const std::string& field, double v) {
 }
 
 bool isBHadron(int absCode) {
-  return absCode == pdg::kB0 || absCode == pdg::kBPlus ||
-         absCode == pdg::kBs || absCode == pdg::kLambdaB;
+  return absCode == pdg::kB0 || absCode == pdg::kBPlus || absCode == pdg::kBs ||
+         absCode == pdg::kLambdaB;
 }
 
 /// Per-event state of the hadronisation: the output list, the engine and
@@ -202,9 +202,9 @@ class EventBuilder {
   /// A b jet: B hadron with a fraction x of the quark momentum plus the
   /// fragments of the rest, which compensate the B hadron's charge.
   void bJet(const TtbarGenerator::Parton& quark, const Vector3& vertex) {
-    const double x = m_cfg.bFragmentationMin +
-                     (m_cfg.bFragmentationMax - m_cfg.bFragmentationMin) *
-                         uniform();
+    const double x =
+        m_cfg.bFragmentationMin +
+        (m_cfg.bFragmentationMax - m_cfg.bFragmentationMin) * uniform();
     // Species of the hadron containing the b (quark) or bbar (antiquark).
     const double r = uniform();
     std::int32_t code = pdg::kLambdaB;
@@ -345,8 +345,12 @@ class EventBuilder {
     // drop +- pion pairs.
     auto total = [&]() {
       double m = nPi0 * pdg::massOf(pdg::kPi0);
-      for (auto c : fixed) m += pdg::massOf(c);
-      for (auto c : hadrons) m += pdg::massOf(c);
+      for (auto c : fixed) {
+        m += pdg::massOf(c);
+      }
+      for (auto c : hadrons) {
+        m += pdg::massOf(c);
+      }
       return m;
     };
     while (total() > mB - 0.1 * GeV) {
@@ -405,10 +409,10 @@ TtbarGenerator::TtbarGenerator(const Config& config) : m_cfg(config) {
   } else if (!(c.sqrtS > 2.0 * c.bMass)) {
     fail("sqrtS", "below the b bbar threshold 2 * bMass");
   }
-  for (auto [field, v] : {std::pair{"brWToHadrons", c.brWToHadrons},
-                          std::pair{"brWToENu", c.brWToENu},
-                          std::pair{"brWToMuNu", c.brWToMuNu},
-                          std::pair{"brWToTauNu", c.brWToTauNu}}) {
+  for (auto [field, v] :
+       {std::pair{"brWToHadrons", c.brWToHadrons},
+        std::pair{"brWToENu", c.brWToENu}, std::pair{"brWToMuNu", c.brWToMuNu},
+        std::pair{"brWToTauNu", c.brWToTauNu}}) {
     requireRange(field, v, 0.0, 1.0);
   }
   if (!(c.brWToHadrons + c.brWToENu + c.brWToMuNu + c.brWToTauNu > 0.0)) {
@@ -422,8 +426,7 @@ TtbarGenerator::TtbarGenerator(const Config& config) : m_cfg(config) {
   requireRange("k0PerCharged", c.k0PerCharged, 0.0, 10.0);
   requireRange("lambdaPerCharged", c.lambdaPerCharged, 0.0, 10.0);
   requireRange("kaonFraction", c.kaonFraction, 0.0, 1.0);
-  requireRange("protonFraction", c.protonFraction, 0.0,
-               1.0 - c.kaonFraction);
+  requireRange("protonFraction", c.protonFraction, 0.0, 1.0 - c.kaonFraction);
   requireRange("fragmentationExponent", c.fragmentationExponent, 0.0, 100.0);
   requirePositive("fragmentationPMin", c.fragmentationPMin);
   requireRange("ktSigma", c.ktSigma, 0.0, 100.0);
@@ -431,8 +434,8 @@ TtbarGenerator::TtbarGenerator(const Config& config) : m_cfg(config) {
   requireRange("bFragmentationMax", c.bFragmentationMax, c.bFragmentationMin,
                0.999);
   // The B hadron must be lighter than the part of the b momentum it takes.
-  if (c.process == Process::eBbbar && c.sqrtS / 2.0 * c.bFragmentationMin <
-                                          2.0 * bHadronMass) {
+  if (c.process == Process::eBbbar &&
+      c.sqrtS / 2.0 * c.bFragmentationMin < 2.0 * bHadronMass) {
     fail("sqrtS", "too low for the b-jet model (B hadron mass)");
   }
   requireRange("bHadronCTau", c.bHadronCTau, 0.0, 1e6);
@@ -479,8 +482,7 @@ TtbarGenerator::PartonEvent TtbarGenerator::generatePartons(
     return event;
   }
 
-  const double brSum =
-      c.brWToHadrons + c.brWToENu + c.brWToMuNu + c.brWToTauNu;
+  const double brSum = c.brWToHadrons + c.brWToENu + c.brWToMuNu + c.brWToTauNu;
   const double pTop =
       std::sqrt(beamEnergy * beamEnergy - c.topMass * c.topMass);
   for (int sign : {1, -1}) {
@@ -513,8 +515,7 @@ TtbarGenerator::PartonEvent TtbarGenerator::generatePartons(
     }
     d1 *= sign;
     d2 *= sign;
-    auto [p1, p2] =
-        twoBodyDecay(t.w, pdg::massOf(d1), pdg::massOf(d2), rng);
+    auto [p1, p2] = twoBodyDecay(t.w, pdg::massOf(d1), pdg::massOf(d2), rng);
     int q1 = 0;
     int q2 = 0;
     if (t.wDecay == WDecay::eHadrons) {

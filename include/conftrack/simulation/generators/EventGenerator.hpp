@@ -3,12 +3,12 @@
 /// @file EventGenerator.hpp
 /// The interface of all event generators: the true particles of one event.
 
+#include "conftrack/core/Particle.hpp"
+#include "conftrack/core/Random.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include "conftrack/core/Particle.hpp"
-#include "conftrack/core/Random.hpp"
 
 namespace conftrack {
 

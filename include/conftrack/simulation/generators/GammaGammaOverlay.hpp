@@ -4,12 +4,12 @@
 /// The parametric gamma gamma -> hadrons background of physics.md 7.3 (an
 /// assumption to be tuned, not a published model).
 
+#include "conftrack/core/Units.hpp"
+#include "conftrack/simulation/generators/EventGenerator.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
-
-#include "conftrack/core/Units.hpp"
-#include "conftrack/simulation/generators/EventGenerator.hpp"
 
 namespace conftrack {
 

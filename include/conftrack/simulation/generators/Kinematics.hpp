@@ -4,11 +4,11 @@
 /// Relativistic kinematics for the generators: four-momenta, boosts, and
 /// two- and n-body decays at rest with exact four-momentum conservation.
 
-#include <span>
-#include <vector>
-
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Types.hpp"
+
+#include <span>
+#include <vector>
 
 namespace conftrack {
 

@@ -4,15 +4,15 @@
 /// Single-species particles with flat kinematic distributions, optionally
 /// displaced (the single-particle and displaced-muon samples).
 
+#include "conftrack/core/Types.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/simulation/generators/EventGenerator.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <numbers>
 #include <optional>
 #include <string>
-
-#include "conftrack/core/Types.hpp"
-#include "conftrack/core/Units.hpp"
-#include "conftrack/simulation/generators/EventGenerator.hpp"
 
 namespace conftrack {
 

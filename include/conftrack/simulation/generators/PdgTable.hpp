@@ -11,33 +11,33 @@ namespace conftrack::pdg {
 
 /// PDG codes used by the generators (particle; the antiparticle is -code).
 enum Code : std::int32_t {
-  kDown = 1,
-  kUp = 2,
-  kStrange = 3,
-  kCharm = 4,
-  kBottom = 5,
-  kTop = 6,
-  kElectron = 11,
-  kElectronNeutrino = 12,
-  kMuon = 13,
-  kMuonNeutrino = 14,
-  kTau = 15,
-  kTauNeutrino = 16,
-  kGluon = 21,
-  kPhoton = 22,
-  kWPlus = 24,
-  kPi0 = 111,
-  kPiPlus = 211,
-  kK0L = 130,
-  kK0S = 310,
-  kKPlus = 321,
-  kB0 = 511,
-  kBPlus = 521,
-  kBs = 531,
-  kNeutron = 2112,
-  kProton = 2212,
-  kLambda = 3122,
-  kLambdaB = 5122,
+  kDown = 1,               ///< d quark
+  kUp = 2,                 ///< u quark
+  kStrange = 3,            ///< s quark
+  kCharm = 4,              ///< c quark
+  kBottom = 5,             ///< b quark
+  kTop = 6,                ///< t quark
+  kElectron = 11,          ///< e-
+  kElectronNeutrino = 12,  ///< nu_e
+  kMuon = 13,              ///< mu-
+  kMuonNeutrino = 14,      ///< nu_mu
+  kTau = 15,               ///< tau-
+  kTauNeutrino = 16,       ///< nu_tau
+  kGluon = 21,             ///< gluon
+  kPhoton = 22,            ///< photon
+  kWPlus = 24,             ///< W+
+  kPi0 = 111,              ///< pi0
+  kPiPlus = 211,           ///< pi+
+  kK0L = 130,              ///< K0L
+  kK0S = 310,              ///< K0S
+  kKPlus = 321,            ///< K+
+  kB0 = 511,               ///< B0 (d bbar)
+  kBPlus = 521,            ///< B+ (u bbar)
+  kBs = 531,               ///< B0s (s bbar)
+  kNeutron = 2112,         ///< neutron
+  kProton = 2212,          ///< proton
+  kLambda = 3122,          ///< Lambda (uds)
+  kLambdaB = 5122,         ///< Lambda_b (udb)
 };
 
 /// Charge in units of e, three times (integer, exact). Known particles come

@@ -5,14 +5,14 @@
 /// (500 GeV): the jet topology of the reference events, not a physics
 /// generator.
 
+#include "conftrack/core/Units.hpp"
+#include "conftrack/simulation/generators/EventGenerator.hpp"
+#include "conftrack/simulation/generators/Kinematics.hpp"
+
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include "conftrack/core/Units.hpp"
-#include "conftrack/simulation/generators/EventGenerator.hpp"
-#include "conftrack/simulation/generators/Kinematics.hpp"
 
 namespace conftrack {
 
@@ -28,7 +28,8 @@ namespace conftrack {
 ///
 /// Hadronisation (independent fragmentation of each quark into a jet):
 /// - the number of charged primaries is Poisson with mean
-///   n(E) = nchA + nchB ln(E/GeV) + nchC ln^2(E/GeV), E the jet energy, then
+///   n(E) = nchA + nchB ln(E/GeV) + nchC ln^2(E/GeV), E the jet momentum
+///   (for b jets the part not taken by the B hadron), then
 ///   made odd or even so that the jet carries its integer charge (below);
 ///   neutral primaries (pi0, K0S/K0L, Lambda) are Poisson with means
 ///   proportional to n(E);
@@ -60,10 +61,12 @@ namespace conftrack {
 /// decays are. All primaries share one vertex (0, 0, z), z Gaussian with
 /// beamSpotSigmaZ, at time 0.
 ///
-/// Multiplicity tuning (default parameters): a 3 TeV ttbar event has on
-/// average about 90 status-1 charged particles with pT > 0.1 GeV and
-/// |cos theta| < 0.99 (the paper's "about 90 tracks"; the fine tuning
-/// against the simulation is to follow).
+/// Multiplicity tuning (defaults): n(E) = 1.30 ln(E/GeV) + 0.30 ln^2(E/GeV),
+/// i.e. 9.3 charged primaries for a 45.6 GeV jet (LEP Z: about 10 per jet),
+/// 12.4 at 100 GeV, 19.9 at 455 GeV. A 3 TeV ttbar event then has on
+/// average 92 status-1 charged particles, 90.6 of them with pT > 0.1 GeV
+/// and |cos theta| < 0.99 (the paper's "about 90 tracks"; fine tuning
+/// against the simulation is to follow); a 500 GeV b bbar event has 34.
 class TtbarGenerator final : public EventGenerator {
  public:
   /// Which process.
@@ -73,7 +76,12 @@ class TtbarGenerator final : public EventGenerator {
   };
 
   /// W decay channels.
-  enum class WDecay { eHadrons = 0, eElectron = 1, eMuon = 2, eTau = 3 };
+  enum class WDecay {
+    eHadrons = 0,   ///< W -> q qbar'
+    eElectron = 1,  ///< W -> e nu
+    eMuon = 2,      ///< W -> mu nu
+    eTau = 3,       ///< W -> tau nu
+  };
 
   /// Configuration; the defaults are the 3 TeV ttbar sample.
   struct Config {
@@ -96,7 +104,7 @@ class TtbarGenerator final : public EventGenerator {
     /// BR(W -> tau nu).
     double brWToTauNu = 0.1138;
     /// Constant term of the jet's mean charged multiplicity.
-    double nchA = 0.45;
+    double nchA = 0.0;
     /// Coefficient of ln(E/GeV).
     double nchB = 1.30;
     /// Coefficient of ln^2(E/GeV).

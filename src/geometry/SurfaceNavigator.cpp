@@ -1,4 +1,6 @@
-#include "conftrack/simulation/SurfaceNavigator.hpp"
+#include "conftrack/geometry/SurfaceNavigator.hpp"
+
+#include "conftrack/geometry/MaterialInteractions.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -49,6 +51,16 @@ SurfaceNavigator::SurfaceNavigator(const Detector& detector) {
     }
     m_surfaces.push_back(s);
   }
+  const double x0Mm = radiationLengthMm(kSilicon);
+  for (NavigationSurface& s : m_surfaces) {
+    // Radius of curvature of the surface: the cylinder radius; for a cone
+    // the smaller end radius (conservative: the larger cap).
+    const double radius = s.shape == SurfaceShape::eCylinder ? s.r : s.rMin;
+    if (s.shape != SurfaceShape::eDisk && radius > 0.0) {
+      s.grazingCos =
+          std::min(1.0, std::sqrt(s.thicknessX0 * x0Mm / (2.0 * radius)));
+    }
+  }
   for (std::uint32_t i = 0; i < m_surfaces.size(); ++i) {
     switch (m_surfaces[i].shape) {
       case SurfaceShape::eCylinder:
@@ -80,8 +92,7 @@ SurfaceNavigator::SurfaceNavigator(const Detector& detector) {
   }
 }
 
-SurfaceCrossing SurfaceNavigator::nextCrossing(const Helix& helix,
-                                               double sMin,
+SurfaceCrossing SurfaceNavigator::nextCrossing(const Helix& helix, double sMin,
                                                double sMax) const {
   SurfaceCrossing best;
   // Only crossings strictly before sMax count.
@@ -104,34 +115,68 @@ SurfaceCrossing SurfaceNavigator::nextCrossing(const Helix& helix,
   const double reachMin = helix.minRadius() - margin;
   const double reachMax = helix.maxRadius() + margin;
 
-  // Cylinders, outwards then inwards from r0.
+  // Cheap test whether the helix is inside a cylinder's z range somewhere
+  // in (sMin, bestS).
+  const double invTanLambda = tanLambda != 0.0 ? 1.0 / tanLambda : 0.0;
+  auto zWindowOpen = [&](const NavigationSurface& c) {
+    if (tanLambda == 0.0) {
+      return z0 >= c.zMin && z0 <= c.zMax;
+    }
+    const double s1 = (c.zMin - z0) * invTanLambda;
+    const double s2 = (c.zMax - z0) * invTanLambda;
+    return std::max(s1, s2) > sMin && std::min(s1, s2) < bestS;
+  };
+  // Cylinders, first in the direction of radial motion, then the other
+  // way. A lower bound on the arc length to radius R (|dr/ds| <= 1): |R - r0|
+  // ahead; behind, the helix must first turn at its extreme radius, e.g.
+  // moving out: (rMax - r0) + (rMax - R). Both grow along each walk, so a
+  // walk stops at the first cylinder whose bound exceeds the best crossing.
   const auto split = static_cast<std::size_t>(
       std::lower_bound(m_cylinderRadii.begin(), m_cylinderRadii.end(), r0) -
       m_cylinderRadii.begin());
-  for (std::size_t k = split; k < m_cylinders.size(); ++k) {
-    const double r = m_cylinderRadii[k];
-    if (r - r0 >= bestS || r > reachMax) {
-      break;
+  const bool outwards = helix.radialDirection() >= 0.0;
+  auto walkOut = [&] {
+    for (std::size_t k = split; k < m_cylinders.size(); ++k) {
+      const double r = m_cylinderRadii[k];
+      const double bound = outwards ? r - r0 : r0 + r - 2.0 * reachMin;
+      if (bound >= bestS || r > reachMax) {
+        break;
+      }
+      const NavigationSurface& c = m_surfaces[m_cylinders[k]];
+      if (!zWindowOpen(c)) {
+        continue;
+      }
+      consider(helix.nextCylinderCrossing(r, c.zMin, c.zMax, sMin, bestS),
+               m_cylinders[k]);
     }
-    const NavigationSurface& c = m_surfaces[m_cylinders[k]];
-    consider(helix.nextCylinderCrossing(r, c.zMin, c.zMax, sMin, bestS),
-             m_cylinders[k]);
-  }
-  for (std::size_t k = split; k-- > 0;) {
-    const double r = m_cylinderRadii[k];
-    if (r0 - r >= bestS || r < reachMin) {
-      break;
+  };
+  auto walkIn = [&] {
+    for (std::size_t k = split; k-- > 0;) {
+      const double r = m_cylinderRadii[k];
+      const double bound = outwards ? 2.0 * reachMax - r0 - r : r0 - r;
+      if (bound >= bestS || r < reachMin) {
+        break;
+      }
+      const NavigationSurface& c = m_surfaces[m_cylinders[k]];
+      if (!zWindowOpen(c)) {
+        continue;
+      }
+      consider(helix.nextCylinderCrossing(r, c.zMin, c.zMax, sMin, bestS),
+               m_cylinders[k]);
     }
-    const NavigationSurface& c = m_surfaces[m_cylinders[k]];
-    consider(helix.nextCylinderCrossing(r, c.zMin, c.zMax, sMin, bestS),
-             m_cylinders[k]);
+  };
+  if (outwards) {
+    walkOut();
+    walkIn();
+  } else {
+    walkIn();
+    walkOut();
   }
 
   // Disks in the direction of motion along z.
   if (tanLambda > 0.0) {
     auto first = static_cast<std::size_t>(
-        std::upper_bound(m_diskZ.begin(), m_diskZ.end(), z0) -
-        m_diskZ.begin());
+        std::upper_bound(m_diskZ.begin(), m_diskZ.end(), z0) - m_diskZ.begin());
     for (std::size_t k = first; k < m_disks.size(); ++k) {
       if ((m_diskZ[k] - z0) / tanLambda >= bestS) {
         break;
@@ -145,8 +190,7 @@ SurfaceCrossing SurfaceNavigator::nextCrossing(const Helix& helix,
     }
   } else if (tanLambda < 0.0) {
     auto last = static_cast<std::size_t>(
-        std::lower_bound(m_diskZ.begin(), m_diskZ.end(), z0) -
-        m_diskZ.begin());
+        std::lower_bound(m_diskZ.begin(), m_diskZ.end(), z0) - m_diskZ.begin());
     for (std::size_t k = last; k-- > 0;) {
       if ((m_diskZ[k] - z0) / tanLambda >= bestS) {
         break;
@@ -181,8 +225,8 @@ SurfaceCrossing SurfaceNavigator::nextCrossing(const Helix& helix,
     if (lowerBound >= bestS) {
       continue;
     }
-    consider(helix.nextConeCrossing(c.zMin, c.zMax, c.coneR1, c.coneSlope,
-                                    sMin, bestS),
+    consider(helix.nextConeCrossing(c.zMin, c.zMax, c.coneR1, c.coneSlope, sMin,
+                                    bestS),
              index);
   }
   return best;

@@ -1,4 +1,4 @@
-#include "conftrack/simulation/MaterialInteractions.hpp"
+#include "conftrack/geometry/MaterialInteractions.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -56,8 +56,8 @@ double betheStoppingPower(double betaGamma, double mass, double charge,
          bracket;
 }
 
-double betheMeanEnergyLoss(double p, double mass, double charge,
-                           double xOverX0, const IonisationMaterial& material) {
+double betheMeanEnergyLoss(double p, double mass, double charge, double xOverX0,
+                           const IonisationMaterial& material) {
   const double massThickness = xOverX0 * material.radiationLength;
   return betheStoppingPower(p / mass, mass, charge, material) * massThickness;
 }
@@ -66,8 +66,6 @@ double bremsstrahlungMeanLossFraction(double xOverX0) {
   return -std::expm1(-xOverX0);
 }
 
-double betheHeitlerShape(double xOverX0) {
-  return xOverX0 / std::numbers::ln2;
-}
+double betheHeitlerShape(double xOverX0) { return xOverX0 / std::numbers::ln2; }
 
 }  // namespace conftrack

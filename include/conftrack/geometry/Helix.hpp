@@ -5,12 +5,12 @@
 /// with analytic intersections with cylinders and disks and a bracketed
 /// root search for cones (physics.md section 2).
 
+#include "conftrack/core/Types.hpp"
+#include "conftrack/core/Units.hpp"
+
 #include <cmath>
 #include <limits>
 #include <numbers>
-
-#include "conftrack/core/Types.hpp"
-#include "conftrack/core/Units.hpp"
 
 namespace conftrack {
 
@@ -24,6 +24,8 @@ namespace conftrack {
 ///     P(s) = P0 + t sin(w)/Omega - n 2 sin^2(w/2)/Omega,
 ///     z(s) = z0 + s tan(lambda),  phi(s) = phi0 - w.
 ///
+/// This is physics.md's x(s) = x0 + [sin phi0 - sin(phi0 - w)]/Omega, ...
+/// rewritten with sin phi0 - sin(phi0 - w) = 2 cos(phi0 - w/2) sin(w/2).
 /// Omega = q kPtPerTeslaMm Bz / pT is the signed curvature, positive for a
 /// positive charge in a positive field: positive particles turn clockwise
 /// seen from +z. Omega = 0 (no field) is the straight line; small |Omega|
@@ -46,6 +48,7 @@ class Helix {
     // Projections of the start point on t and n (used by the crossings).
     m_d = position.x() * m_cosPhi + position.y() * m_sinPhi;
     m_e = -position.x() * m_sinPhi + position.y() * m_cosPhi;
+    computeRadialRange();
   }
 
   /// Start point [mm].
@@ -71,9 +74,11 @@ class Helix {
     double a = s;    // sin(w)/Omega
     double b = 0.0;  // (1 - cos w)/Omega = 2 sin^2(w/2)/Omega
     if (m_omega != 0.0) {
-      const double w = m_omega * s;
-      const double h = std::sin(0.5 * w);
-      a = std::sin(w) / m_omega;
+      // One sincos of the half angle: sin w = 2 sin(w/2) cos(w/2).
+      const double half = 0.5 * m_omega * s;
+      const double h = std::sin(half);
+      const double c = std::cos(half);
+      a = 2.0 * h * c / m_omega;
       b = 2.0 * h * h / m_omega;
     }
     return {m_position.x() + a * m_cosPhi + b * m_sinPhi,
@@ -91,13 +96,45 @@ class Helix {
             m_pt * (m_sinPhi * c - m_cosPhi * sn), m_pt * m_tanLambda};
   }
 
-  /// Smallest and largest distance of the transverse circle (or line) from
-  /// the z axis [mm]: the radii the helix can reach. Computed without the
-  /// 1/Omega cancellation: |C| - rho = (r0^2 |Omega| - 2 E sgn Omega) /
+  /// Position and momentum at s together (one sincos instead of two).
+  void positionAndMomentum(double s, Vector3& position,
+                           Vector3& momentum) const {
+    double a = s;
+    double b = 0.0;
+    double cosW = 1.0;
+    double sinW = 0.0;
+    if (m_omega != 0.0) {
+      const double half = 0.5 * m_omega * s;
+      const double h = std::sin(half);
+      const double c = std::cos(half);
+      sinW = 2.0 * h * c;
+      cosW = 1.0 - 2.0 * h * h;
+      a = sinW / m_omega;
+      b = 2.0 * h * h / m_omega;
+    }
+    position = {m_position.x() + a * m_cosPhi + b * m_sinPhi,
+                m_position.y() + a * m_sinPhi - b * m_cosPhi,
+                m_position.z() + s * m_tanLambda};
+    momentum = {m_pt * (m_cosPhi * cosW + m_sinPhi * sinW),
+                m_pt * (m_sinPhi * cosW - m_cosPhi * sinW), m_pt * m_tanLambda};
+  }
+
+  /// Smallest distance of the transverse circle (or line) from the z axis
+  /// [mm]: with maxRadius() the radii the helix can reach. Computed without
+  /// the 1/Omega cancellation: |C| - rho = (r0^2 |Omega| - 2 E sgn Omega) /
   /// (1 + |Omega||C|), with |Omega||C| = sqrt(1 - 2 Omega E + Omega^2 r0^2).
-  double minRadius() const;
-  /// See minRadius(); infinite for a straight line.
-  double maxRadius() const;
+  double minRadius() const { return m_minRadius; }
+  /// Largest distance from the z axis, rho + |C| [mm]; infinite for a line.
+  double maxRadius() const { return m_maxRadius; }
+  /// |Omega| |C|, the distance of the circle centre from the axis in units
+  /// of the radius (1 for a straight line).
+  double centreDistanceOverRadius() const { return m_omegaC; }
+  /// dr/ds at the start point: the radial component of the transverse
+  /// direction (0 on the axis).
+  double radialDirection() const {
+    const double r0 = m_position.head<2>().norm();
+    return r0 > 0.0 ? m_d / r0 : 0.0;
+  }
 
   /// Next crossing with the cylinder of radius `r` around the z axis, with
   /// z in [zMin, zMax], at s in (sMin, sMax]: the smallest such s, or
@@ -112,10 +149,12 @@ class Helix {
                           double sMax) const;
 
   /// Next crossing with the cone r = r1 + (z - zMin) slope, zMin <= z <=
-  /// zMax, at s in (sMin, sMax]. A root search (see Helix.cpp): safe steps
-  /// bounded by the Lipschitz constant of the radial distance bracket the
-  /// first sign change, a safeguarded Newton iteration refines it. Pairs
-  /// of crossings closer than `kConeMinStep` in s (grazing) may be missed.
+  /// zMax, at s in (sMin, sMax]. A root search (see Helix.cpp): steps that
+  /// provably contain no root (bounds on the first and second derivative
+  /// of the radial distance) bracket the first sign change, a safeguarded
+  /// Newton iteration refines it. Pairs of crossings closer than
+  /// `kConeMinStep` in s (grazing) may be missed. slope = 0 is a cylinder
+  /// and solved analytically.
   double nextConeCrossing(double zMin, double zMax, double r1, double slope,
                           double sMin, double sMax) const;
 
@@ -123,8 +162,8 @@ class Helix {
   static constexpr double kConeMinStep = 0.05 * units::mm;
 
  private:
-  /// Signed distance of the helix from the cone at s (radial) [mm].
-  double coneDistance(double s, double zMin, double r1, double slope) const;
+  /// Fills m_omegaC, m_minRadius and m_maxRadius.
+  void computeRadialRange();
 
   Vector3 m_position;
   double m_pt = 0.0;
@@ -134,6 +173,9 @@ class Helix {
   double m_omega = 0.0;
   double m_d = 0.0;
   double m_e = 0.0;
+  double m_omegaC = 1.0;
+  double m_minRadius = 0.0;
+  double m_maxRadius = 0.0;
 };
 
 }  // namespace conftrack

@@ -22,6 +22,8 @@ struct IonisationMaterial {
   double meanExcitation = 0.0;
   /// Radiation length as mass thickness [g/cm^2].
   double radiationLength = 0.0;
+  /// Density [g/cm^3].
+  double density = 0.0;
   /// Sternheimer density-effect parameters (PDG): C-bar, x0, x1, a, k and
   /// delta0 (the value of delta at x0 for conductors; 0 for insulators).
   double cBar = 0.0;
@@ -38,8 +40,13 @@ struct IonisationMaterial {
 /// X0 of silicon (an approximation; carbon fibre and beryllium lose more
 /// per X0, iron less).
 inline constexpr IonisationMaterial kSilicon{
-    0.49848, 173.0 * units::eV, 21.82, 4.4355, 0.2015,
+    0.49848, 173.0 * units::eV, 21.82,  2.329, 4.4355, 0.2015,
     2.8716,  0.14921,           3.2546, 0.14};
+
+/// Radiation length of a material as a length [mm]: X0[g/cm^2] / density.
+constexpr double radiationLengthMm(const IonisationMaterial& material) {
+  return material.radiationLength / material.density * units::cm;
+}
 
 /// Highland width of the projected scattering angle [rad] (PDG RPP 2018
 /// eq. 33.15, as ACTS computeMultipleScatteringTheta0):
@@ -97,8 +104,7 @@ double betheStoppingPower(double betaGamma, double mass, double charge,
 /// @param mass particle mass [GeV]
 /// @param charge charge [e]
 /// @param xOverX0 traversed material (path length) in radiation lengths
-double betheMeanEnergyLoss(double p, double mass, double charge,
-                           double xOverX0,
+double betheMeanEnergyLoss(double p, double mass, double charge, double xOverX0,
                            const IonisationMaterial& material = kSilicon);
 
 /// Mean fraction of the energy an electron loses by bremsstrahlung in

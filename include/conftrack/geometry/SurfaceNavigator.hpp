@@ -4,13 +4,13 @@
 /// Finds the next surface a helix crosses among all sensitive layers and
 /// passive surfaces of a detector.
 
+#include "conftrack/core/Types.hpp"
+#include "conftrack/geometry/Detector.hpp"
+#include "conftrack/geometry/Helix.hpp"
+
 #include <cstdint>
 #include <limits>
 #include <vector>
-
-#include "conftrack/core/Types.hpp"
-#include "conftrack/geometry/Detector.hpp"
-#include "conftrack/simulation/Helix.hpp"
 
 namespace conftrack {
 
@@ -31,6 +31,11 @@ struct NavigationSurface {
   double coneSlope = 0.0;
   /// Material at normal incidence [X0].
   double thicknessX0 = 0.0;
+  /// Smallest |cos(incidence)| that makes geometric sense on a curved
+  /// surface: a track tangent to a shell of radius r and thickness t
+  /// (silicon-equivalent, thicknessX0 * X0(Si)) traverses at most
+  /// sqrt(2 r t) = t / sqrt(t / (2 r)). 0 for disks (flat).
+  double grazingCos = 0.0;
   /// Index into Detector::layers() for sensitive layers, -1 for passive.
   std::int32_t layer = -1;
 
@@ -56,11 +61,13 @@ struct SurfaceCrossing {
 /// All surfaces of a detector, ordered for a fast nearest-crossing search.
 ///
 /// Cylinders are kept sorted by radius and disks by z. Since the transverse
-/// arc length is at least the radial distance (|dr/ds| <= 1) and disks are
-/// reached at s = dz/tanL, both lists are walked outwards from the current
-/// point and the walk stops as soon as the lower bound exceeds the best
-/// crossing found so far: only the few nearby surfaces are intersected.
-/// Cones (a handful) are all tried, with the same bound on their window.
+/// arc length is at least the radial distance travelled (|dr/ds| <= 1;
+/// a cylinder behind the radial motion needs a turn at the helix's extreme
+/// radius first) and disks are reached at s = dz/tanL, both lists are
+/// walked away from the current point and each walk stops as soon as the
+/// lower bound exceeds the best crossing found so far: only the few nearby
+/// surfaces are intersected. Cones (a handful) are all tried after cheap
+/// bounds on their window. A brute-force comparison is in the tests.
 class SurfaceNavigator {
  public:
   /// Builds the surface lists of `detector` (copied; no reference kept).
@@ -68,9 +75,7 @@ class SurfaceNavigator {
 
   /// All surfaces: sensitive layers first (index = layer index), then the
   /// passive surfaces in Detector::passives() order.
-  const std::vector<NavigationSurface>& surfaces() const {
-    return m_surfaces;
-  }
+  const std::vector<NavigationSurface>& surfaces() const { return m_surfaces; }
 
   /// The nearest crossing of `helix` with any surface at s in (sMin, sMax).
   SurfaceCrossing nextCrossing(const Helix& helix, double sMin,

@@ -1,0 +1,73 @@
+// Fast-simulation throughput: an event's worth of soft charged pions
+// (about the charged multiplicity of a 3 TeV ttbar event with 30 bunch
+// crossings of gamma gamma -> hadrons) in CLICdet.
+
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/simulation/Simulator.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace {
+
+using namespace conftrack;
+
+/// `n` pions from the beam spot: exponential pT with mean 0.4 GeV (many
+/// loopers below 0.1 GeV), flat in |eta| < 3 and phi, both charges.
+std::vector<Particle> softPions(std::size_t n) {
+  RandomEngine rng(12345);
+  std::exponential_distribution<double> pt(1.0 / (0.4 * units::GeV));
+  std::uniform_real_distribution<double> eta(-3.0, 3.0);
+  std::uniform_real_distribution<double> phi(-std::numbers::pi,
+                                             std::numbers::pi);
+  std::normal_distribution<double> spot(0.0, 1.0);
+  std::vector<Particle> particles;
+  particles.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Particle p;
+    p.id = i + 1;
+    p.charge = i % 2 == 0 ? 1.0 : -1.0;
+    p.pdg = 211 * static_cast<int>(p.charge);
+    const double t = pt(rng);
+    const double f = phi(rng);
+    p.momentum = {t * std::cos(f), t * std::sin(f), t * std::sinh(eta(rng))};
+    p.vertex = {0.01 * spot(rng), 0.01 * spot(rng), 40.0 * spot(rng)};
+    particles.push_back(p);
+  }
+  return particles;
+}
+
+/// Arguments: number of particles, material effects on (1) or off (0).
+void simulateSoftPions(benchmark::State& state) {
+  const Detector detector = loadDetector("clicdet");
+  Simulator::Config config;
+  config.multipleScattering = state.range(1) != 0;
+  config.energyLoss = state.range(1) != 0;
+  const Simulator simulator(detector, config);
+  const std::vector<Particle> particles =
+      softPions(static_cast<std::size_t>(state.range(0)));
+  std::uint64_t eventNumber = 0;
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    Event event;
+    RandomEngine rng = makeEngine(1, eventNumber++, RandomStream::eSimulation);
+    simulator.simulate(particles, rng, event);
+    hits = event.hits.size();
+    benchmark::DoNotOptimize(event.hits.data());
+  }
+  state.counters["hits"] = static_cast<double>(hits);
+  state.SetItemsProcessed(state.iterations() *
+                          static_cast<std::int64_t>(particles.size()));
+}
+
+BENCHMARK(simulateSoftPions)
+    ->Args({3000, 1})
+    ->Args({3000, 0})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
