@@ -10,5 +10,6 @@
 namespace conftrack::cli {
 
 void addDetectorCommand(CLI::App& app);
+void addSimulateCommand(CLI::App& app);
 
 }  // namespace conftrack::cli

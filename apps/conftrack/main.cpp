@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   });
 
   cli::addDetectorCommand(app);
+  cli::addSimulateCommand(app);
 
   try {
     app.parse(argc, argv);

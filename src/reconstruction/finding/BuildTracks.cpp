@@ -13,12 +13,20 @@
 //   remaining leaf contributes its straightest path (graceful degradation
 //   instead of upstream's TooManyTracks abort of the step);
 // - a seed that is already on a track accepted in this step is skipped: its
-//   candidates would be subsets of that track and lose the clone treatment.
+//   candidates would be subsets of that track and lose the clone treatment;
+// - the children of a cell depend only on the cell (its end hit and
+//   direction fix the search window) and the used flags, which do not
+//   change while a step builds. So cells and their children are computed
+//   once per step and shared by all seeds; a seed's automaton is the
+//   subgraph reachable from its seed cells, exactly the cells upstream
+//   rebuilds for it, at the cost of an integer graph traversal.
 
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <numeric>
 #include <unordered_map>
 
@@ -31,7 +39,6 @@ struct Cell {
   ConfIndex end;
   double du, dv;  // unit direction in (u, v)
   double dz, dr;  // unit direction in (z, R)
-  std::uint32_t weight;
 };
 
 /// Angle between two unit vectors, in [0, pi]: atan2(|a x b|, a . b).
@@ -52,13 +59,12 @@ class SeedAutomaton {
 
   /// Runs the automaton for one seed; appends passing candidates.
   void run(ConfIndex seed, std::vector<TrackCandidate>& candidates) {
-    m_cells.clear();
-    m_edges.clear();
-    m_lookup.clear();
+    ++m_stamp;
+    m_sub.clear();
     m_overflowCells = false;
     seedCells(seed);
-    grow();
-    m_stats.cells += m_cells.size();
+    collectSubgraph();
+    m_stats.cells += m_sub.size();
     if (m_overflowCells) {
       ++m_stats.cellOverflows;
     }
@@ -66,6 +72,9 @@ class SeedAutomaton {
   }
 
  private:
+  static constexpr std::uint32_t kNotExpanded =
+      std::numeric_limits<std::uint32_t>::max();
+
   bool acceptNeighbour(ConfIndex from, ConfIndex n) const {
     if (n == from || m_state.used[n] != 0 || m_hits.sameLayer(from, n)) {
       return false;
@@ -78,8 +87,8 @@ class SeedAutomaton {
                        : m_hits.rc[n] > m_hits.rc[from];
   }
 
-  Cell makeCell(ConfIndex a, ConfIndex b, std::uint32_t weight) const {
-    Cell c{a, b, 0, 0, 0, 0, weight};
+  Cell makeCell(ConfIndex a, ConfIndex b) const {
+    Cell c{a, b, 0, 0, 0, 0};
     double du = m_hits.u[b] - m_hits.u[a];
     double dv = m_hits.v[b] - m_hits.v[a];
     double l = std::hypot(du, dv);
@@ -104,12 +113,67 @@ class SeedAutomaton {
     return (static_cast<std::uint64_t>(a) << 32) | b;
   }
 
+  /// The step-wide cell (a -> b), created on first use.
+  std::uint32_t cellOf(ConfIndex a, ConfIndex b) {
+    auto [it, inserted] = m_lookup.try_emplace(
+        key(a, b), static_cast<std::uint32_t>(m_cells.size()));
+    if (inserted) {
+      m_cells.push_back(makeCell(a, b));
+      m_childBegin.push_back(kNotExpanded);
+      m_childCount.push_back(0);
+      m_visit.push_back(0);
+      m_local.push_back(0);
+    }
+    return it->second;
+  }
+
+  /// Children of cell c: cells (end -> n) with n in the search window
+  /// around the "virtual hit" on the cell's prolongation (algorithm.md 4)
+  /// that pass the angle cuts. Computed once per step.
+  void expand(std::uint32_t c) {
+    if (m_childBegin[c] != kNotExpanded) {
+      return;
+    }
+    const Cell parent = m_cells[c];
+    ConfIndex last = parent.end;
+    double d = m_step.maxDistance;
+    if (m_insideOut && d > m_hits.rc[last]) {
+      d = 1.2 * m_hits.rc[last];
+    }
+    double cu = m_hits.u[last] + 0.5 * d * parent.du;
+    double cv = m_hits.v[last] + 0.5 * d * parent.dv;
+    // Only hits inside the (u, v) angle cut can make or link a cell.
+    m_pool.cone(m_hits.u[last], m_hits.v[last], parent.du, parent.dv,
+                m_step.maxCellAngle, cu, cv, 0.625 * d, m_nb);
+    m_children.clear();
+    for (ConfIndex n : m_nb) {
+      if (!acceptNeighbour(last, n)) {
+        continue;
+      }
+      auto it = m_lookup.find(key(last, n));
+      if (it != m_lookup.end()) {
+        if (anglesPass(parent, m_cells[it->second])) {
+          m_children.push_back(it->second);
+        }
+        continue;
+      }
+      if (anglesPass(parent, makeCell(last, n))) {
+        m_children.push_back(cellOf(last, n));
+      }
+    }
+    m_childBegin[c] = static_cast<std::uint32_t>(m_childPool.size());
+    m_childCount[c] = static_cast<std::uint32_t>(m_children.size());
+    m_childPool.insert(m_childPool.end(), m_children.begin(),
+                       m_children.end());
+  }
+
   void seedCells(ConfIndex seed) {
     if (m_step.radialSearch) {
       m_pool.disc(m_hits.u[seed], m_hits.v[seed], m_step.maxDistance, m_nb);
     } else {
       m_pool.azimuthWindow(m_hits.phi[seed], m_state.config.thetaRange, m_nb);
     }
+    m_seedCells.clear();
     for (ConfIndex n : m_nb) {
       if (!acceptNeighbour(seed, n)) {
         continue;
@@ -125,109 +189,110 @@ class SeedAutomaton {
       if (length > m_step.maxDistance) {
         continue;
       }
-      m_lookup.emplace(key(seed, n),
-                       static_cast<std::uint32_t>(m_cells.size()));
-      m_cells.push_back(makeCell(seed, n, 0));
+      double dphi = std::abs(m_hits.phi[n] - m_hits.phi[seed]);
+      if (std::min(dphi, 2.0 * std::numbers::pi - dphi) >
+          m_step.maxSeedDeltaPhi) {
+        continue;
+      }
+      m_seedCells.push_back(cellOf(seed, n));
     }
   }
 
-  void grow() {
-    std::size_t begin = 0;
-    std::size_t end = m_cells.size();
-    while (begin < end) {
-      for (std::size_t ci = begin; ci < end; ++ci) {
-        const Cell parent = m_cells[ci];
-        ConfIndex last = parent.end;
-        // Search around a "virtual hit" on the cell's prolongation
-        // (algorithm.md 4, cell extension).
-        double d = m_step.maxDistance;
-        if (m_insideOut && d > m_hits.rc[last]) {
-          d = 1.2 * m_hits.rc[last];
-        }
-        double cu = m_hits.u[last] + 0.5 * d * parent.du;
-        double cv = m_hits.v[last] + 0.5 * d * parent.dv;
-        m_pool.disc(cu, cv, 0.625 * d, m_nb);
-        for (ConfIndex n : m_nb) {
-          if (!acceptNeighbour(last, n)) {
-            continue;
-          }
-          auto it = m_lookup.find(key(last, n));
-          if (it != m_lookup.end()) {
-            if (anglesPass(parent, m_cells[it->second])) {
-              m_edges.emplace_back(it->second, static_cast<std::uint32_t>(ci));
-            }
-            continue;
-          }
-          Cell child = makeCell(last, n, parent.weight + 1);
-          if (!anglesPass(parent, child)) {
-            continue;
-          }
-          if (m_cells.size() >= m_state.config.maxCellsPerSeed) {
-            m_overflowCells = true;
-            return;
-          }
-          auto index = static_cast<std::uint32_t>(m_cells.size());
-          m_lookup.emplace(key(last, n), index);
-          m_cells.push_back(child);
-          m_edges.emplace_back(index, static_cast<std::uint32_t>(ci));
-        }
+  /// The seed's automaton: all cells reachable from its seed cells.
+  void collectSubgraph() {
+    for (std::uint32_t c : m_seedCells) {
+      if (m_visit[c] != m_stamp) {
+        m_visit[c] = m_stamp;
+        m_sub.push_back(c);
       }
-      begin = end;
-      end = m_cells.size();
+    }
+    for (std::size_t i = 0; i < m_sub.size(); ++i) {
+      std::uint32_t c = m_sub[i];
+      expand(c);
+      for (std::uint32_t k = 0; k < m_childCount[c]; ++k) {
+        std::uint32_t child = m_childPool[m_childBegin[c] + k];
+        if (m_visit[child] == m_stamp) {
+          continue;
+        }
+        if (m_sub.size() >= m_state.config.maxCellsPerSeed) {
+          m_overflowCells = true;
+          return;
+        }
+        m_visit[child] = m_stamp;
+        m_sub.push_back(child);
+      }
     }
   }
 
   void extractPaths(std::vector<TrackCandidate>& candidates) {
-    const std::size_t n = m_cells.size();
+    const std::size_t n = m_sub.size();
     if (n == 0) {
       return;
     }
-    // Parents in CSR form, children counts.
+    // Local numbering of the subgraph; edges (child, parent) inside it.
+    for (std::uint32_t i = 0; i < n; ++i) {
+      m_local[m_sub[i]] = i;
+    }
+    m_edges.clear();
+    m_children.assign(n, 0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      std::uint32_t c = m_sub[i];
+      if (m_childBegin[c] == kNotExpanded) {
+        continue;  // cut off by the cell cap: treated as a leaf
+      }
+      for (std::uint32_t k = 0; k < m_childCount[c]; ++k) {
+        std::uint32_t child = m_childPool[m_childBegin[c] + k];
+        if (m_visit[child] == m_stamp) {
+          m_edges.emplace_back(m_local[child], i);
+          ++m_children[i];
+        }
+      }
+    }
+    // Parents in CSR form.
     std::sort(m_edges.begin(), m_edges.end());
     m_parentBegin.assign(n + 1, 0);
-    m_children.assign(n, 0);
-    for (const auto& [child, parent] : m_edges) {
-      ++m_parentBegin[child + 1];
-      ++m_children[parent];
+    for (const auto& e : m_edges) {
+      ++m_parentBegin[e.first + 1];
     }
     std::partial_sum(m_parentBegin.begin(), m_parentBegin.end(),
                      m_parentBegin.begin());
     // Weights: longest chain from a seed cell. Parents start further from
-    // the seed's opposite end, so ordering cells by the conformal radius of
-    // their start hit is a topological order.
+    // the seed's opposite end, so ordering cells by the conformal-hit index
+    // of their start hit is a topological order.
     m_order.resize(n);
     std::iota(m_order.begin(), m_order.end(), 0);
-    std::sort(m_order.begin(), m_order.end(),
-              [&](std::uint32_t a, std::uint32_t b) {
-                ConfIndex sa = m_cells[a].start;
-                ConfIndex sb = m_cells[b].start;
-                if (sa != sb) {
-                  return m_insideOut ? sa < sb : sa > sb;
-                }
-                return a < b;
-              });
+    std::sort(m_order.begin(), m_order.end(), [&](std::uint32_t a,
+                                                  std::uint32_t b) {
+      ConfIndex sa = cell(a).start;
+      ConfIndex sb = cell(b).start;
+      if (sa != sb) {
+        return m_insideOut ? sa < sb : sa > sb;
+      }
+      return a < b;
+    });
+    m_weight.assign(n, 0);
     for (std::uint32_t c : m_order) {
       std::uint32_t w = 0;
       for (std::uint32_t k = m_parentBegin[c]; k < m_parentBegin[c + 1]; ++k) {
-        w = std::max(w, m_cells[m_edges[k].second].weight + 1);
+        w = std::max(w, m_weight[m_edges[k].second] + 1);
       }
-      m_cells[c].weight = w;
+      m_weight[c] = w;
     }
     const std::uint32_t minWeight =
         m_step.minHits >= 2 ? m_step.minHits - 2 : 0;
     m_leaves.clear();
     for (std::uint32_t c = 0; c < n; ++c) {
-      if (m_children[c] == 0 && m_cells[c].weight >= minWeight) {
+      if (m_children[c] == 0 && m_weight[c] >= minWeight) {
         m_leaves.push_back(c);
       }
     }
     std::sort(m_leaves.begin(), m_leaves.end(),
               [&](std::uint32_t a, std::uint32_t b) {
-                if (m_cells[a].weight != m_cells[b].weight) {
-                  return m_cells[a].weight > m_cells[b].weight;
+                if (m_weight[a] != m_weight[b]) {
+                  return m_weight[a] > m_weight[b];
                 }
-                return key(m_cells[a].start, m_cells[a].end) <
-                       key(m_cells[b].start, m_cells[b].end);
+                return key(cell(a).start, cell(a).end) <
+                       key(cell(b).start, cell(b).end);
               });
     std::uint32_t budget = m_state.config.maxPathsPerSeed;
     bool overflow = false;
@@ -245,6 +310,9 @@ class SeedAutomaton {
       ++m_stats.pathOverflows;
     }
   }
+
+  /// Cell of local index i in the current subgraph.
+  const Cell& cell(std::uint32_t i) const { return m_cells[m_sub[i]]; }
 
   /// Depth-first enumeration of all paths from `leaf` back to seed cells.
   void enumerate(std::uint32_t leaf, std::uint32_t& budget,
@@ -285,8 +353,8 @@ class SeedAutomaton {
       std::uint32_t best = m_edges[m_parentBegin[c]].second;
       double bestAngle = 10.0;
       for (std::uint32_t k = m_parentBegin[c]; k < m_parentBegin[c + 1]; ++k) {
-        const Cell& p = m_cells[m_edges[k].second];
-        double a = angleBetween(p.du, p.dv, m_cells[c].du, m_cells[c].dv);
+        const Cell& p = cell(m_edges[k].second);
+        double a = angleBetween(p.du, p.dv, cell(c).du, cell(c).dv);
         if (a < bestAngle) {
           bestAngle = a;
           best = m_edges[k].second;
@@ -305,9 +373,9 @@ class SeedAutomaton {
     // Hits in seed-to-leaf order.
     std::vector<ConfIndex> chain;
     chain.reserve(m_path.size() + 1);
-    chain.push_back(m_cells[m_path.front()].start);
+    chain.push_back(cell(m_path.front()).start);
     for (std::uint32_t c : m_path) {
-      chain.push_back(m_cells[c].end);
+      chain.push_back(cell(c).end);
     }
     const std::size_t minHits = m_step.minHits;
     TrackCandidate cand;
@@ -370,10 +438,21 @@ class SeedAutomaton {
   StepStats& m_stats;
   bool m_insideOut;
   bool m_overflowCells = false;
+  // Step-wide cell graph (children computed once per cell).
   std::vector<Cell> m_cells;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>>
-      m_edges;  // child, parent
   std::unordered_map<std::uint64_t, std::uint32_t> m_lookup;
+  std::vector<std::uint32_t> m_childBegin;
+  std::vector<std::uint32_t> m_childCount;
+  std::vector<std::uint32_t> m_childPool;
+  std::vector<std::uint32_t> m_visit;  // stamp of the last seed that saw it
+  std::uint32_t m_stamp = 0;
+  // The current seed's subgraph (local indices into m_sub).
+  std::vector<std::uint32_t> m_seedCells;
+  std::vector<std::uint32_t> m_sub;
+  std::vector<std::uint32_t> m_local;  // global -> local index
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_edges;  // child,
+                                                                 // parent
+  std::vector<std::uint32_t> m_weight;
   std::vector<ConfIndex> m_nb;
   std::vector<std::uint32_t> m_parentBegin;
   std::vector<std::uint32_t> m_children;

@@ -107,7 +107,17 @@ ConformalFitResult fitConformal(const ConformalHits& hits,
     pts.push_back(toFrame(hits, i, r.cosA, r.sinA));
   }
 
-  Eigen::Vector3d params = Eigen::Vector3d::Zero();
+  // The normal equations are solved in x~ = x'/scale: conformal
+  // coordinates span 1e-4..3e-2 /mm and weights 1e10..1e17, so unscaled
+  // matrices are too ill-conditioned for a rank test.
+  double scale = 0.0;
+  for (const FramePoint& p : pts) {
+    scale = std::max(scale, std::abs(p.x));
+  }
+  if (!(scale > 0.0)) {
+    return r;
+  }
+  Eigen::Vector3d params = Eigen::Vector3d::Zero();  // unscaled (c, m, q)
   Eigen::Matrix3d inv = Eigen::Matrix3d::Zero();
   // Two passes: weights from the y' variance, then effective variances
   // with the fitted local slope.
@@ -117,24 +127,33 @@ ConformalFitResult fitConformal(const ConformalHits& hits,
     for (const FramePoint& p : pts) {
       double slope = pass == 0 ? 0.0 : params(1) + 2.0 * params(2) * p.x;
       double w = 1.0 / residualVariance(p, slope);
-      Eigen::Vector3d h(1.0, p.x, quadratic ? p.x * p.x : 0.0);
+      double xs = p.x / scale;
+      Eigen::Vector3d h(1.0, xs, quadratic ? xs * xs : 0.0);
       normal += w * h * h.transpose();
       rhs += w * p.y * h;
     }
-    if (!quadratic) {
-      normal(2, 2) = 1.0;  // q is fixed to zero
+    Eigen::Matrix3d scaledInv = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d scaled = Eigen::Vector3d::Zero();
+    if (quadratic) {
+      Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
+      lu.setThreshold(1e-12);
+      if (!lu.isInvertible()) {
+        return r;
+      }
+      scaledInv = lu.inverse();
+      scaled = scaledInv * rhs;
+    } else {
+      Eigen::Matrix2d n2 = normal.topLeftCorner<2, 2>();
+      double det = n2.determinant();
+      if (!(std::abs(det) > 1e-12 * n2(0, 0) * n2(1, 1))) {
+        return r;
+      }
+      scaledInv.topLeftCorner<2, 2>() = n2.inverse();
+      scaled.head<2>() = scaledInv.topLeftCorner<2, 2>() * rhs.head<2>();
     }
-    Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
-    if (!lu.isInvertible()) {
-      return r;
-    }
-    inv = lu.inverse();
-    params = inv * rhs;
-    if (!quadratic) {
-      params(2) = 0.0;
-      inv.row(2).setZero();
-      inv.col(2).setZero();
-    }
+    Eigen::Vector3d d(1.0, 1.0 / scale, 1.0 / (scale * scale));
+    params = d.cwiseProduct(scaled);
+    inv = d.asDiagonal() * scaledInv * d.asDiagonal();
     if (!params.allFinite()) {
       return r;
     }

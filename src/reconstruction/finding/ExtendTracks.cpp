@@ -9,14 +9,28 @@
 // cell (1x the step's cuts in the per-layer pass, 3x in the catch-all pass),
 // increases of chi2_uv/ndf and chi2_sz/ndf below the step's chi2 cut, no two
 // hits on one sensor, and in the catch-all pass no hit on the other side in
-// z. The chi2 increments are the exact ones of the quadratic fits, computed
-// in O(1) per hit. Of the layers with compatible hits, the one crossed
-// first along the track is taken, with its hit of lowest chi2_uv increase.
+// z. The chi2 increments are the exact ones of the track's fits, computed
+// in O(1) per hit. Upstream always refits with the quadratic term here; a
+// track built with the straight-line (prompt) model keeps it instead: with
+// the quadratic term free, a vertex-detector track plus the tracker hits of
+// a neighbouring particle of the same jet fits as well as the right
+// combination, while the prompt model tells them apart by a factor of ten
+// in chi2. Of the layers with compatible hits, the one crossed
+// first along the track is taken. Upstream takes the hit of lowest chi2_uv
+// increase there; in dense jets that greedy choice swaps hits between
+// particles a fraction of a mrad apart, because a vertex-detector track
+// cannot predict its curvature well enough at the first tracker layer (only
+// the next layers' lever arm tells them apart). So when several hits on
+// that layer are compatible, each of the best few is scored by its
+// chi2_uv + chi2_sz increase plus that of the best continuation on the
+// following layers (a look-ahead of FinderConfig::extensionLookahead
+// layers), and the lowest total wins.
 
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace conftrack::detail {
@@ -35,14 +49,33 @@ struct Prediction {
   double phi;
 };
 
+/// A compatible hit on a predicted layer crossing.
+struct Candidate {
+  ConfIndex hit;
+  double s;      ///< predicted arc length of the crossing
+  double chi2;   ///< chi2_uv + chi2_sz increase
+  double dUv;
+};
+
+/// A track being extended: hits and fits.
+struct Chain {
+  std::vector<ConfIndex> hits;
+  ConformalFitResult uv;
+  ArcFrame arc;
+  SzFitResult sz;
+};
+
+/// chi2 charged for a predicted layer crossing without a compatible hit in
+/// the look-ahead (a missing hit costs about a 4 sigma deviation).
+constexpr double kMissingHitChi2 = 16.0;
+/// At most this many hits of one layer are followed in the look-ahead.
+constexpr std::size_t kLookaheadBranches = 3;
+
 class Extender {
  public:
   Extender(FinderState& state, const FindingStep& step, const HitPool& pool,
            StepStats& stats)
-      : m_state(state),
-        m_hits(state.hits),
-        m_step(step),
-        m_pool(pool),
+      : m_state(state), m_hits(state.hits), m_step(step), m_pool(pool),
         m_stats(stats) {}
 
   /// Extends track t. `catchAll` selects the loose low-pT pass.
@@ -51,115 +84,51 @@ class Extender {
     if (track.hits.size() < 3) {
       return;
     }
-    ConformalFitResult uv = fitConformal(m_hits, track.hits, true, &track.uv);
-    if (!uv.valid) {
+    m_catchAll = catchAll;
+    m_quadratic = track.uv.quadratic;
+    Chain chain;
+    chain.hits = track.hits;
+    if (!refit(chain, &track.uv)) {
       return;
     }
-    ArcFrame arc = makeArcFrame(uv, m_hits, track.hits.front());
-    SzFitResult sz = fitSz(m_hits, track.hits, arc);
-    if (!sz.valid) {
-      return;
-    }
-    const double factor = catchAll ? 3.0 : 1.0;
     bool added = false;
+    std::vector<Candidate> cands;
     while (true) {
-      ConfIndex best = 0;
-      double bestS = 0.0;
-      double bestChi2 = 0.0;
-      bool found = false;
-      const ConfIndex last = track.hits.back();
-      const ConfIndex prev = track.hits[track.hits.size() - 2];
-      // Track direction at the last hit from the fitted curve (more
-      // precise than the chord of the last two hits).
-      double xl = uv.cosA * m_hits.u[last] + uv.sinA * m_hits.v[last];
-      double slope = uv.params(1) + 2.0 * uv.params(2) * xl;
-      double norm = std::hypot(1.0, slope);
-      double tu = (uv.cosA - uv.sinA * slope) / norm;
-      double tv = (uv.sinA + uv.cosA * slope) / norm;
-      double rzDz = m_hits.z[last] - m_hits.z[prev];
-      double rzDr = m_hits.radius[last] - m_hits.radius[prev];
-      double rzNorm = std::hypot(rzDz, rzDr);
-      const double sLast = sz.lastS;
-
-      for (std::uint32_t layer : m_pool.layers()) {
-        predict(layer, arc, sz, sLast, catchAll);
-        for (const Prediction& p : m_predictions) {
-          m_window.clear();
-          m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
-                             m_window);
-          for (ConfIndex h : m_window) {
-            if (m_state.used[h] != 0 || onSensorOf(track, h)) {
-              continue;
-            }
-            if (catchAll && (m_hits.z[h] > 0) != (m_hits.z[last] > 0)) {
-              continue;
-            }
-            if (!catchAll && m_hits.radius[h] <= m_hits.radius[last]) {
-              continue;
-            }
-            double du = m_hits.u[h] - m_hits.u[last];
-            double dv = m_hits.v[h] - m_hits.v[last];
-            double l = std::hypot(du, dv);
-            if (!(l > 0.0) || angleBetween(tu, tv, du / l, dv / l) >
-                                  factor * m_step.maxCellAngle) {
-              continue;
-            }
-            double dz = m_hits.z[h] - m_hits.z[last];
-            double dr = m_hits.radius[h] - m_hits.radius[last];
-            double lr = std::hypot(dz, dr);
-            if (rzNorm > 0.0 && lr > 0.0 &&
-                angleBetween(rzDz / rzNorm, rzDr / rzNorm, dz / lr, dr / lr) >
-                    factor * m_step.maxCellAngleRZ) {
-              continue;
-            }
-            double dUv = uv.deltaChi2(m_hits, h);
-            double s = arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
-            if (!(s > sLast)) {
-              continue;
-            }
-            double dSz =
-                sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h]);
-            if (increase(uv.chi2, uv.ndf, dUv) > m_step.chi2Cut ||
-                increase(sz.chi2, sz.ndf, dSz) > m_step.chi2Cut) {
-              continue;
-            }
-            // First layer along the track; on it the lowest chi2 increase.
-            bool better = !found || p.s < bestS - 1e-6 ||
-                          (std::abs(p.s - bestS) <= 1e-6 &&
-                           (dUv < bestChi2 || (dUv == bestChi2 && h < best)));
-            if (better) {
-              found = true;
-              best = h;
-              bestS = p.s;
-              bestChi2 = dUv;
-            }
+      collect(chain, cands);
+      if (cands.empty()) {
+        break;
+      }
+      std::size_t choice = 0;
+      if (cands.size() > 1 && m_state.config.extensionLookahead > 0) {
+        double best = std::numeric_limits<double>::infinity();
+        std::size_t n = std::min(cands.size(), kLookaheadBranches);
+        for (std::size_t k = 0; k < n; ++k) {
+          double score =
+              cands[k].chi2 +
+              lookahead(chain, cands[k].hit,
+                        m_state.config.extensionLookahead);
+          if (score < best) {
+            best = score;
+            choice = k;
           }
         }
       }
-      if (!found) {
-        break;
-      }
-      track.hits.push_back(best);
-      m_state.used[best] = 1;  // extensions claim hits immediately
-      m_state.clones.addHit(best, t);
+      ConfIndex h = cands[choice].hit;
+      chain.hits.push_back(h);
+      m_state.used[h] = 1;  // extensions claim hits immediately
+      m_state.clones.addHit(h, t);
       ++m_stats.extendedHits;
       added = true;
-      ConformalFitResult refit = fitConformal(m_hits, track.hits, true, &uv);
-      if (!refit.valid) {
+      if (!refit(chain, &chain.uv)) {
+        chain.hits.pop_back();
         break;
       }
-      uv = refit;
-      arc = makeArcFrame(uv, m_hits, track.hits.front());
-      SzFitResult szRefit = fitSz(m_hits, track.hits, arc);
-      if (!szRefit.valid) {
-        break;
-      }
-      sz = szRefit;
     }
     if (added) {
-      track.uv = uv;
-      track.sz = sz;
-      track.pt = uv.pt(m_state.bzForPt);
+      track.hits = chain.hits;
+      track.uv = chain.uv;
+      track.sz = chain.sz;
+      track.pt = chain.uv.pt(m_state.bzForPt);
     }
   }
 
@@ -169,8 +138,49 @@ class Extender {
     return (chi2 + delta) / (ndf + 1) - before;
   }
 
-  bool onSensorOf(const TrackCandidate& track, ConfIndex h) const {
-    for (ConfIndex k : track.hits) {
+  bool refit(Chain& c, const ConformalFitResult* frame) const {
+    ConformalFitResult uv =
+        fitConformal(m_hits, c.hits, m_quadratic, frame);
+    if (!uv.valid) {
+      return false;
+    }
+    ArcFrame arc = makeArcFrame(uv, m_hits, c.hits.front());
+    SzFitResult sz = fitSz(m_hits, c.hits, arc);
+    if (!sz.valid) {
+      return false;
+    }
+    c.uv = uv;
+    c.arc = arc;
+    c.sz = sz;
+    return true;
+  }
+
+  /// Best total chi2 increase of the next `depth` layers after adding h.
+  double lookahead(const Chain& chain, ConfIndex h, int depth) {
+    Chain next = chain;
+    next.hits.push_back(h);
+    if (!refit(next, &chain.uv)) {
+      return kMissingHitChi2 * depth;
+    }
+    std::vector<Candidate> cands;
+    bool predicted = collect(next, cands, h);
+    if (cands.empty()) {
+      return predicted ? kMissingHitChi2 : 0.0;
+    }
+    if (depth <= 1) {
+      return cands.front().chi2;
+    }
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t n = std::min(cands.size(), kLookaheadBranches);
+    for (std::size_t k = 0; k < n; ++k) {
+      best = std::min(best, cands[k].chi2 +
+                                lookahead(next, cands[k].hit, depth - 1));
+    }
+    return best;
+  }
+
+  bool onSensorOf(const std::vector<ConfIndex>& hits, ConfIndex h) const {
+    for (ConfIndex k : hits) {
       if (m_hits.sameSensor(k, h)) {
         return true;
       }
@@ -178,9 +188,95 @@ class Extender {
     return false;
   }
 
+  /// Compatible hits on the first layer crossed after the chain's last hit,
+  /// best (lowest chi2 increase) first. `excluded` is a tentative hit of
+  /// the look-ahead. Returns whether any crossing was predicted at all.
+  bool collect(const Chain& chain, std::vector<Candidate>& out,
+               ConfIndex excluded = kInvalidIndex) {
+    out.clear();
+    const ConfIndex last = chain.hits.back();
+    const ConfIndex prev = chain.hits[chain.hits.size() - 2];
+    const ConformalFitResult& uv = chain.uv;
+    const SzFitResult& sz = chain.sz;
+    const double factor = m_catchAll ? 3.0 : 1.0;
+    // Track direction at the last hit from the fitted curve (more precise
+    // than the chord of the last two hits).
+    double xl = uv.cosA * m_hits.u[last] + uv.sinA * m_hits.v[last];
+    double slope = uv.params(1) + 2.0 * uv.params(2) * xl;
+    double norm = std::hypot(1.0, slope);
+    double tu = (uv.cosA - uv.sinA * slope) / norm;
+    double tv = (uv.sinA + uv.cosA * slope) / norm;
+    double rzDz = m_hits.z[last] - m_hits.z[prev];
+    double rzDr = m_hits.radius[last] - m_hits.radius[prev];
+    double rzNorm = std::hypot(rzDz, rzDr);
+    const double sLast = sz.lastS;
+    bool predicted = false;
+    double firstS = std::numeric_limits<double>::infinity();
+    for (std::uint32_t layer : m_pool.layers()) {
+      predict(layer, chain.arc, sz, sLast);
+      predicted = predicted || !m_predictions.empty();
+      for (const Prediction& p : m_predictions) {
+        if (p.s > firstS + 1e-6) {
+          continue;  // a later layer than one that already has hits
+        }
+        m_window.clear();
+        m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
+                           m_window);
+        for (ConfIndex h : m_window) {
+          if (h == excluded || m_state.used[h] != 0 ||
+              onSensorOf(chain.hits, h)) {
+            continue;
+          }
+          if (m_catchAll && (m_hits.z[h] > 0) != (m_hits.z[last] > 0)) {
+            continue;
+          }
+          if (!m_catchAll && m_hits.radius[h] <= m_hits.radius[last]) {
+            continue;
+          }
+          double du = m_hits.u[h] - m_hits.u[last];
+          double dv = m_hits.v[h] - m_hits.v[last];
+          double l = std::hypot(du, dv);
+          if (!(l > 0.0) || angleBetween(tu, tv, du / l, dv / l) >
+                                factor * m_step.maxCellAngle) {
+            continue;
+          }
+          double dz = m_hits.z[h] - m_hits.z[last];
+          double dr = m_hits.radius[h] - m_hits.radius[last];
+          double lr = std::hypot(dz, dr);
+          if (rzNorm > 0.0 && lr > 0.0 &&
+              angleBetween(rzDz / rzNorm, rzDr / rzNorm, dz / lr, dr / lr) >
+                  factor * m_step.maxCellAngleRZ) {
+            continue;
+          }
+          double dUv = uv.deltaChi2(m_hits, h);
+          double s = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
+          if (!(s > sLast)) {
+            continue;
+          }
+          double dSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h],
+                                    m_hits.varRxy[h]);
+          if (increase(uv.chi2, uv.ndf, dUv) > m_step.chi2Cut ||
+              increase(sz.chi2, sz.ndf, dSz) > m_step.chi2Cut) {
+            continue;
+          }
+          if (p.s < firstS - 1e-6) {
+            firstS = p.s;
+            out.clear();
+          }
+          out.push_back({h, p.s, dUv + dSz, dUv});
+        }
+      }
+    }
+    std::sort(out.begin(), out.end(),
+              [](const Candidate& a, const Candidate& b) {
+                return a.chi2 != b.chi2 ? a.chi2 < b.chi2 : a.hit < b.hit;
+              });
+    return predicted;
+  }
+
   /// Crossings of `layer` after arc length sLast (within one turn).
-  void predict(std::uint32_t layer, const ArcFrame& arc, const SzFitResult& sz,
-               double sLast, bool catchAll) {
+  void predict(std::uint32_t layer, const ArcFrame& arc,
+               const SzFitResult& sz, double sLast) {
     m_predictions.clear();
     const SensitiveLayer& l = m_state.detector.layers()[layer];
     const double turn = 2.0 * std::numbers::pi * arc.radius;
@@ -208,7 +304,7 @@ class Extender {
         double px = a * ex - sign * h * ey;
         double py = a * ey + sign * h * ex;
         double s = after(arc.arcLength(px, py, sLast));
-        if (!catchAll && s - sLast > 0.5 * turn) {
+        if (!m_catchAll && s - sLast > 0.5 * turn) {
           continue;  // the per-layer pass follows the outgoing branch only
         }
         double z = sz.z0 + sz.tanLambda * s;
@@ -239,6 +335,8 @@ class Extender {
   const FindingStep& m_step;
   const HitPool& m_pool;
   StepStats& m_stats;
+  bool m_catchAll = false;
+  bool m_quadratic = true;
   std::vector<Prediction> m_predictions;
   std::vector<ConfIndex> m_window;
 };

@@ -66,6 +66,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
   s.maxDistance = t.getDouble("max_distance", Range{0.0, 1.0, false, true});
   s.slopeZRange = t.getDouble("slope_z_range", Range::positive());
   s.highPtCut = t.getDouble("high_pt_cut_GeV", Range::nonNegative());
+  s.maxSeedDeltaPhi = t.getDouble("max_seed_dphi", s.maxSeedDeltaPhi,
+                                  Range{0.0, 3.15, false, true});
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);
@@ -106,6 +108,8 @@ FinderConfig parseChain(std::string_view text, const std::string& sourceName,
     cfg.extensionPhiWindow =
         f->getDouble("extension_phi_window", cfg.extensionPhiWindow,
                      Range{0.0, 3.14159, false, true});
+    cfg.extensionLookahead = static_cast<int>(f->getInt(
+        "extension_lookahead", cfg.extensionLookahead, Range::closed(0, 5)));
     cfg.legacyFourTesla = f->getBool("legacy_four_tesla", false);
     f->rejectUnknownKeys();
   }

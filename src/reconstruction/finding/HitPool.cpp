@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace conftrack {
@@ -92,11 +93,15 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
   for (std::uint32_t k = 0; k < m_layerHits.size(); ++k) {
     std::uint32_t l = hits.layer[m_layerHits[k]];
     m_layerPhis.push_back(hits.phi[m_layerHits[k]]);
+    double rc = hits.rc[m_layerHits[k]];
     if (m_layers.empty() || m_layers.back() != l) {
       m_layers.push_back(l);
       m_layerRange.emplace_back(k, k);
+      m_layerRc.emplace_back(rc, rc);
     }
     m_layerRange.back().second = k + 1;
+    m_layerRc.back().first = std::min(m_layerRc.back().first, rc);
+    m_layerRc.back().second = std::max(m_layerRc.back().second, rc);
   }
 }
 
@@ -122,6 +127,150 @@ void HitPool::disc(double u, double v, double radius,
   for (const auto& f : found) {
     out.push_back(m_members[f.first]);
   }
+}
+
+namespace {
+
+double wrap(double a) {
+  while (a > std::numbers::pi) {
+    a -= kTwoPi;
+  }
+  while (a <= -std::numbers::pi) {
+    a += kTwoPi;
+  }
+  return a;
+}
+
+/// Azimuth window of the part of triangle (a, b, c) between the circles of
+/// radius rhoMin and rhoMax around the origin. Returns false if they do not
+/// meet; halfWidth >= pi if the triangle contains the origin. The azimuth is
+/// monotonic along a segment that misses the origin and along an arc, so
+/// its extremes lie at corners: triangle vertices inside the annulus and
+/// edge-circle intersections.
+bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
+                   double& centre, double& halfWidth) {
+  // Origin inside the triangle: every azimuth.
+  auto cross = [](const Vector2& p, const Vector2& q) {
+    return p.x() * q.y() - p.y() * q.x();
+  };
+  double s0 = cross(tri[1] - tri[0], -tri[0]);
+  double s1 = cross(tri[2] - tri[1], -tri[1]);
+  double s2 = cross(tri[0] - tri[2], -tri[2]);
+  if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0)) {
+    centre = 0.0;
+    halfWidth = kTwoPi;
+    return true;
+  }
+  double ref = std::atan2(tri[0].y() + tri[1].y() + tri[2].y(),
+                          tri[0].x() + tri[1].x() + tri[2].x());
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  auto corner = [&](const Vector2& p) {
+    double a = wrap(std::atan2(p.y(), p.x()) - ref);
+    lo = std::min(lo, a);
+    hi = std::max(hi, a);
+  };
+  for (int k = 0; k < 3; ++k) {
+    double r = tri[k].norm();
+    if (r >= rhoMin && r <= rhoMax) {
+      corner(tri[k]);
+    }
+    const Vector2& p0 = tri[k];
+    Vector2 d = tri[(k + 1) % 3] - p0;
+    double aa = d.squaredNorm();
+    if (!(aa > 0.0)) {
+      continue;
+    }
+    double bb = 2.0 * p0.dot(d);
+    for (double rho : {rhoMin, rhoMax}) {
+      double cc = p0.squaredNorm() - rho * rho;
+      double disc = bb * bb - 4.0 * aa * cc;
+      if (disc < 0.0) {
+        continue;
+      }
+      double sq = std::sqrt(disc);
+      for (double t : {(-bb - sq) / (2.0 * aa), (-bb + sq) / (2.0 * aa)}) {
+        if (t >= 0.0 && t <= 1.0) {
+          corner(p0 + t * d);
+        }
+      }
+    }
+  }
+  if (lo > hi) {
+    return false;
+  }
+  centre = wrap(ref + 0.5 * (lo + hi));
+  halfWidth = 0.5 * (hi - lo);
+  return true;
+}
+
+}  // namespace
+
+void HitPool::cone(double u, double v, double du, double dv,
+                   double halfAngle, double discU, double discV,
+                   double discRadius, std::vector<ConfIndex>& out) const {
+  out.clear();
+  // The cone cut off by the disc: a triangle reaching past the disc's far
+  // edge (length / cos keeps the triangle around the circular cap).
+  double reach = std::hypot(discU - u, discV - v) + discRadius;
+  double c = std::cos(halfAngle);
+  double s = std::sin(halfAngle);
+  double len = reach / std::max(c, 1e-3);
+  // Stop short of the origin: beyond it lie hits on the opposite side of
+  // the detector, which no track reaches. Cutting at 0.995 of the distance
+  // loses only R > 200 R(apex), outside any tracker, and keeps the origin
+  // out of the triangle so that windows stay narrow.
+  double towardsOrigin = -(u * du + v * dv);
+  if (towardsOrigin > 0.0) {
+    len = std::min(len, 0.995 * towardsOrigin);
+  }
+  Vector2 apex(u, v);
+  Vector2 left(du * c - dv * s, du * s + dv * c);
+  Vector2 right(du * c + dv * s, -du * s + dv * c);
+  const Vector2 tri[3] = {apex, apex + len * left, apex + len * right};
+  const double r2 = discRadius * discRadius;
+  const double cosCut = std::cos(halfAngle);
+  // A small margin keeps hits exactly on the window edge.
+  constexpr double kMargin = 1e-9;
+  // Conformal radii the disc can reach: skip layers outside at once.
+  double discCentreRc = std::hypot(discU, discV);
+  double rcLow = discCentreRc - discRadius;
+  double rcHigh = discCentreRc + discRadius;
+  for (std::size_t k = 0; k < m_layers.size(); ++k) {
+    if (m_layerRc[k].second < rcLow || m_layerRc[k].first > rcHigh) {
+      continue;
+    }
+    double centre = 0.0;
+    double half = 0.0;
+    if (!annulusWindow(tri, m_layerRc[k].first, m_layerRc[k].second, centre,
+                       half)) {
+      continue;
+    }
+    std::size_t before = out.size();
+    auto [begin, end] = m_layerRange[k];
+    collectWindow(m_layerPhis, m_layerHits, begin, end, centre,
+                  half + kMargin, out);
+    // Exact cuts: inside the disc and the cone.
+    std::size_t kept = before;
+    for (std::size_t i = before; i < out.size(); ++i) {
+      ConfIndex h = out[i];
+      double eu = m_hits->u[h] - discU;
+      double ev = m_hits->v[h] - discV;
+      double au = m_hits->u[h] - u;
+      double av = m_hits->v[h] - v;
+      double al = std::hypot(au, av);
+      if (eu * eu + ev * ev <= r2 && al > 0.0 &&
+          (au * du + av * dv) >= cosCut * al * (1.0 - 1e-12)) {
+        out[kept++] = h;
+      }
+    }
+    out.resize(kept);
+  }
+  std::sort(out.begin(), out.end(), [&](ConfIndex a, ConfIndex b) {
+    double da = std::hypot(m_hits->u[a] - discU, m_hits->v[a] - discV);
+    double db = std::hypot(m_hits->u[b] - discU, m_hits->v[b] - discV);
+    return da != db ? da < db : a < b;
+  });
 }
 
 void HitPool::azimuthWindow(double phi, double halfWidth,

@@ -44,6 +44,11 @@ struct FindingStep {
   double maxDistance = 0.02;
   /// Maximum |dz/dR| of a seed cell.
   double slopeZRange = 10.0;
+  /// Maximum azimuth difference between the two hits of a seed cell [rad]
+  /// (pi: no cut, as upstream). With radial search in the outer tracker
+  /// the conformal disc holds every hit of the inner layers at any
+  /// azimuth, so without this cut a seed pairs with nearly all hits.
+  double maxSeedDeltaPhi = 3.14159265358979323846;
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).
@@ -76,6 +81,9 @@ struct FinderConfig {
   /// Half-width of the azimuth window around the predicted crossing on
   /// each layer during extension [rad].
   double extensionPhiWindow = 0.1;
+  /// Layers of look-ahead when several hits of a layer are compatible
+  /// with a track being extended (0: upstream's greedy choice).
+  int extensionLookahead = 2;
   /// Use upstream's hard-coded 4 T in the pT estimate (for comparisons
   /// only; wrong for CLD).
   bool legacyFourTesla = false;

@@ -27,6 +27,14 @@ class HitPool {
   /// Members within `radius` of (u, v), by distance then index.
   void disc(double u, double v, double radius,
             std::vector<ConfIndex>& out) const;
+  /// Members within the disc (discU, discV, discRadius) and inside the
+  /// cone with apex (u, v), unit axis (du, dv) and half-angle `halfAngle`,
+  /// by distance to the disc centre then index. The same hits as disc()
+  /// followed by an angle cut, but each layer is searched only in the
+  /// azimuth window that the cone covers on it (algorithm.md 14.12).
+  void cone(double u, double v, double du, double dv, double halfAngle,
+            double discU, double discV, double discRadius,
+            std::vector<ConfIndex>& out) const;
   /// Members with |phi - centre| <= halfWidth (wrapped), by |dphi| then
   /// index.
   void azimuthWindow(double phi, double halfWidth,
@@ -48,6 +56,8 @@ class HitPool {
   /// Per layer: [begin, end) into m_layerHits (sorted by azimuth).
   std::vector<std::uint32_t> m_layers;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_layerRange;
+  /// Per layer: smallest and largest conformal radius of its members.
+  std::vector<std::pair<double, double>> m_layerRc;
   std::vector<ConfIndex> m_layerHits;
   std::vector<double> m_layerPhis;
 };

@@ -29,7 +29,7 @@
 /// HepMC keys: path (relative to the TOML file's folder), max_radius_mm
 /// gamma gamma overlay keys:
 ///   bunch_crossings = 30, physics_bx = 10, bunch_spacing_ns = 0.5,
-///   events_per_bx = 3.2, mean_charged = 6.8, pt_mean_GeV = 0.35,
+///   events_per_bx = 3.2, mean_charged = 7.7, pt_mean_GeV = 0.35,
 ///   pt_min_GeV = 0.02, pt_max_GeV = 5, eta_max = 3, kaon_fraction = 0,
 ///   proton_fraction = 0, beam_sigma_z_mm = 0.044
 

@@ -1,0 +1,114 @@
+#include "EventLoop.hpp"
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <charconv>
+#include <thread>
+
+#include "Progress.hpp"
+#include "conftrack/core/DataFiles.hpp"
+#include "conftrack/core/Error.hpp"
+
+namespace conftrack::cli {
+
+void addSampleOptions(CLI::App& cmd, SampleOptions& o) {
+  cmd.add_option("--sample", o.sample,
+                 "muons (particle gun), ttbar3tev, bb500, hepmc:<file>")
+      ->capture_default_str();
+  cmd.add_option("--overlay-bx", o.overlayBx,
+                 "Bunch crossings of gamma gamma -> hadrons overlay")
+      ->capture_default_str();
+  cmd.add_option("--seed", o.seed, "Run seed")->capture_default_str();
+  cmd.add_option("--config", o.configFile,
+                 "Generator TOML file ([generator] and [overlay] tables)")
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--gen", o.settings,
+                 "Generator setting key=value, e.g. --gen p_GeV=10 --gen "
+                 "theta_deg=89 (overlay keys as overlay.key=value)");
+  cmd.add_flag("--no-ms", o.noMultipleScattering,
+               "Switch off multiple scattering in the simulation");
+  cmd.add_flag("--no-eloss", o.noEnergyLoss,
+               "Switch off energy loss in the simulation");
+  cmd.add_flag("--no-time-window", o.noTimeWindow,
+               "Keep hits outside the 10 ns readout window");
+}
+
+EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
+  EventSimulation::Config c;
+  c.sample = o.sample;
+  c.overlayBx = o.overlayBx;
+  c.seed = o.seed;
+  c.simulator.multipleScattering = !o.noMultipleScattering;
+  c.simulator.energyLoss = !o.noEnergyLoss;
+  c.applyTimeWindow = !o.noTimeWindow;
+  if (!o.configFile.empty() && !o.settings.empty()) {
+    throw InputError("--config and --gen: give the settings in one of them");
+  }
+  if (!o.configFile.empty()) {
+    c.generatorToml = readTextFile(o.configFile, "generator");
+    c.generatorTomlSource = o.configFile;
+  } else if (!o.settings.empty()) {
+    std::string generator;
+    std::string overlay;
+    for (const std::string& s : o.settings) {
+      auto eq = s.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        throw InputError("--gen " + s + ": expected key=value");
+      }
+      std::string key = s.substr(0, eq);
+      std::string value = s.substr(eq + 1);
+      // Values that are not numbers, booleans, arrays or quoted strings
+      // are strings: --gen particle=mu-.
+      double number = 0.0;
+      auto [end, ec] =
+          std::from_chars(value.data(), value.data() + value.size(), number);
+      bool literal = (ec == std::errc() && end == value.data() + value.size()) ||
+                     value == "true" || value == "false" ||
+                     (!value.empty() && (value[0] == '[' || value[0] == '"'));
+      if (!literal) {
+        value = "\"" + value + "\"";
+      }
+      if (key.rfind("overlay.", 0) == 0) {
+        overlay += key.substr(8) + " = " + value + "\n";
+      } else {
+        generator += key + " = " + value + "\n";
+      }
+    }
+    c.generatorToml = (generator.empty() ? "" : "[generator]\n" + generator) +
+                      (overlay.empty() ? "" : "[overlay]\n" + overlay);
+    c.generatorTomlSource = "--gen options";
+  }
+  return c;
+}
+
+void addThreadsOption(CLI::App& cmd, std::size_t& threads) {
+  cmd.add_option("-j,--threads", threads, "Threads (0: all cores)")
+      ->capture_default_str();
+}
+
+std::size_t effectiveThreads(std::size_t threads) {
+  if (threads > 0) {
+    return threads;
+  }
+  return std::max<std::size_t>(1, std::thread::hardware_concurrency());
+}
+
+void forEachEvent(std::size_t n, std::size_t threads, const std::string& label,
+                  const std::function<void(std::size_t)>& fn) {
+  Progress progress(label, n);
+  tbb::task_arena arena(static_cast<int>(effectiveThreads(threads)));
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          fn(i);
+                          progress.advance();
+                        }
+                      });
+  });
+  progress.finish();
+}
+
+}  // namespace conftrack::cli

@@ -1,0 +1,50 @@
+#pragma once
+
+/// @file EventLoop.hpp
+/// What several subcommands share: the sample options (generator, overlay,
+/// seed, simulation switches), the --threads option, and a parallel loop
+/// over events with progress.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "conftrack/simulation/EventSimulation.hpp"
+
+namespace conftrack::cli {
+
+/// Command-line description of a simulated sample.
+struct SampleOptions {
+  std::string sample = "ttbar3tev";
+  std::size_t overlayBx = 0;
+  std::uint64_t seed = 1;
+  std::string configFile;
+  std::vector<std::string> settings;  ///< --gen key=value
+  bool noMultipleScattering = false;
+  bool noEnergyLoss = false;
+  bool noTimeWindow = false;
+};
+
+/// Adds --sample, --overlay-bx, --seed, --config, --gen, --no-ms,
+/// --no-eloss, --no-time-window.
+void addSampleOptions(CLI::App& cmd, SampleOptions& options);
+/// Turns the options into an EventSimulation configuration (reads the
+/// --config file). Throws InputError for bad values.
+EventSimulation::Config makeSimulationConfig(const SampleOptions& options);
+
+/// Adds -j,--threads (0: all cores).
+void addThreadsOption(CLI::App& cmd, std::size_t& threads);
+
+/// Runs fn(i) for i in [0, n) on `threads` threads (0: all cores) with a
+/// progress report. Exceptions from fn propagate (the first one).
+void forEachEvent(std::size_t n, std::size_t threads, const std::string& label,
+                  const std::function<void(std::size_t)>& fn);
+
+/// Number of threads `threads` stands for (0: hardware concurrency).
+std::size_t effectiveThreads(std::size_t threads);
+
+}  // namespace conftrack::cli

@@ -1,0 +1,240 @@
+#pragma once
+
+/// @file KalmanFitter.hpp
+/// The final track fit (paper 4.2, algorithm.md 11): a Kalman filter with
+/// Rauch-Tung-Striebel smoother on the helix parameters in global
+/// coordinates, with the same helix, navigation and material model as the
+/// fast simulation, and the extrapolation to the point of closest
+/// approach to the z axis.
+
+#include "conftrack/core/Hit.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/Detector.hpp"
+#include "conftrack/geometry/SurfaceNavigator.hpp"
+#include "conftrack/reconstruction/Track.hpp"
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
+#include "conftrack/reconstruction/fitting/HelixState.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace conftrack {
+
+/// Why a fit failed (eSuccess if it did not).
+enum class FitStatus : std::uint8_t {
+  eSuccess = 0,
+  eTooFewHits,          ///< fewer than Config::minHits hits on the candidate
+  eUnknownLayer,        ///< a hit's detector id is not a layer of the detector
+  ePrefitFailed,        ///< degenerate three-point helix
+  eTooFewMeasurements,  ///< too few hits left after outliers/unreachable
+  eParticleStopped,     ///< energy loss stopped the particle
+  ePropagationFailed,   ///< the target could not be reached
+  eNumericalProblem,    ///< singular or non-finite matrices
+};
+
+/// Diagnostics of one call of KalmanFitter::fit.
+struct FitInfo {
+  /// Outcome of the fit that was kept.
+  FitStatus status = FitStatus::eSuccess;
+  /// Outcome of the first direction.
+  FitStatus firstStatus = FitStatus::eSuccess;
+  /// True if the other direction was tried (first failure or
+  /// Config::maxHitInvertedFit).
+  bool retried = false;
+  /// True if the result comes from the inverted direction.
+  bool inverted = false;
+};
+
+/// Counters and output of fitting one event.
+struct FittingResult {
+  /// One track per candidate, in candidate order; `fitted` false where
+  /// the fit failed (the finder information is still filled).
+  std::vector<Track> tracks;
+  /// Candidates whose fit failed in both directions.
+  std::size_t failures = 0;
+  /// Candidates refitted in the other direction.
+  std::size_t retries = 0;
+  /// Hits flagged as outliers on fitted tracks.
+  std::size_t outliers = 0;
+  /// Wall time of run() [ms].
+  double milliseconds = 0.0;
+};
+
+/// Kalman fitter of found tracks.
+///
+/// Track model (HelixState.hpp): the five LCIO parameters relative to a
+/// pivot that moves with the fit to each surface crossing (KalTest style),
+/// transported with the exact pivot transformation and its analytic
+/// Jacobian; the helix between surfaces is the geometry Helix, the
+/// crossings come from the SurfaceNavigator, as in the simulation.
+///
+/// Per candidate (hits in path order, innermost first for prompt tracks):
+///  1. prefit: the helix through the first, middle and last hit, with the
+///     diffuse diagonal covariance Config::initialVariance;
+///  2. filter pass in the first direction (along the path, or against it
+///     for FoundTrack::fitBackward), outliers by the chi2 increment cut;
+///  3. filter pass in the opposite direction started from the end state of
+///     step 2 with its covariance scaled by Config::refitCovarianceScale
+///     (the CMS "error rescaling" of KFFittingSmoother: the diffuse prior
+///     of step 2 leaves the first states nearly singular, which would make
+///     an RTS smoother ill-conditioned), then the RTS smoother (Frühwirth,
+///     NIM A262 (1987) 444, eq. 19-21) over the nodes of step 3;
+///  4. the smoothed state at the innermost hit propagated to the PCA to the
+///     z axis (reference = origin), through the material in between.
+/// If step 2-4 fail, they are retried in the other direction (paper 4.2,
+/// upstream MaxHitInvertedFit).
+///
+/// Measurements: 2-D in the hit's local frame; barrel (u, v) = (R phi, z)
+/// with u the arc on the layer cylinder, disk u and v the projections on the
+/// hit's tangential and radial axes. The measurement matrix includes the
+/// shift of the crossing point along the track when d0 and z0 change
+/// (the crossing geometry), (1 - t g^T / (g . t)) dX/da, g the surface
+/// normal and t the direction.
+///
+/// Material, at every crossed surface (sensitive with or without a hit,
+/// passive), as Simulator: x/X0 = t/|cos alpha| with the same caps,
+/// Highland (Rossi-Greisen for electrons) theta0 as process noise on phi0
+/// (theta0^2 / cos^2 lambda) and on lambda (theta0^2, mapped to tanLambda
+/// and to Omega at fixed p), and the Bethe mean loss as a correction of
+/// Omega (lost along the motion, added back against it). Node states are
+/// on the inner side of the node's material (the side the particle comes
+/// from), so the smoothed innermost state needs only the material between
+/// it and the IP.
+///
+/// Thread-safe: fit() and run() are const and keep no state.
+class KalmanFitter {
+ public:
+  /// Settings. Defaults follow upstream (algorithm.md 11.1) where it has
+  /// an equivalent.
+  struct Config {
+    /// PDG code of the mass hypothesis: 211 (pion, default), 13, 11
+    /// (electron: Rossi-Greisen scattering), 321, 2212; others: pion mass.
+    std::int32_t pdg = 211;
+    /// Multiple scattering as process noise.
+    bool multipleScattering = true;
+    /// Mean ionisation loss as a momentum correction.
+    bool energyLoss = true;
+    /// Hits whose chi2 increment exceeds this are outliers (upstream
+    /// MaxChi2PerHit = 100).
+    double maxChi2Increment = 100.0;
+    /// Initial covariance of the prefit, diagonal in (d0, phi0, Omega, z0,
+    /// tanLambda), at the first hit: upstream's 1e6 mm^2, 1e2, 1e-4 mm^-2,
+    /// 1e6 mm^2, 1e2.
+    TrackVector initialVariance =
+        (TrackVector() << 1e6 * units::mm * units::mm, 1e2,
+         1e-4 / (units::mm * units::mm), 1e6 * units::mm * units::mm, 1e2)
+            .finished();
+    /// If > 0, the initial sigma(Omega) is prefitOmegaFraction |Omega| +
+    /// prefitOmegaFloor of the prefit (capped at the initialVariance
+    /// value), instead of upstream's 1e-2 mm^-1: see KalmanFitter.cpp.
+    /// The final result does not depend on it (the second pass starts from
+    /// the first with 100 times its covariance).
+    double prefitOmegaFraction = 0.3;
+    /// Floor of the initial sigma(Omega) [1/mm] (pT = 120 GeV at 4 T).
+    double prefitOmegaFloor = 1e-5 / units::mm;
+    /// Covariance scale of the start of the second pass (CMS uses 100):
+    /// the second pass counts the first pass's information with weight
+    /// 1/scale, i.e. covariances come out 1/(1 + 1/scale) too small.
+    double refitCovarianceScale = 100.0;
+    /// Maximum linearisations of one measurement update (iterated
+    /// extended Kalman filter; 1 = plain EKF). Iteration stops when the
+    /// exact crossing residual agrees with the linear model to 2 % of the
+    /// resolution, which takes one evaluation except near tangent
+    /// crossings.
+    unsigned maxUpdateIterations = 5;
+    /// Filter passes after the second one (each from the end of the last,
+    /// alternating in direction): re-linearisation around a better
+    /// trajectory.
+    unsigned extraPasses = 0;
+    /// Minimum number of hits used in the fit (ndf = 2 n - 5 >= 1); upstream
+    /// MinClustersOnTrackAfterFit = 3.
+    std::uint32_t minHits = 3;
+    /// Retry in the other direction when the first fails.
+    bool retryInverted = true;
+    /// Also retry if the first direction used fewer hits than this; the
+    /// result with more hits is kept (upstream MaxHitInvertedFit = 0).
+    std::uint32_t maxHitInvertedFit = 0;
+    /// Lower bound on |cos alpha| in x/X0 = t/|cos alpha| (as
+    /// Simulator::Config::minCosIncidence).
+    double minCosIncidence = 0.01;
+    /// A particle whose momentum falls below this is stopped (as
+    /// Simulator::Config::minMomentum).
+    double minMomentum = 10.0 * units::MeV;
+    /// Include the material between the innermost hit and the IP.
+    bool materialToIp = true;
+    /// Safety cap on the surfaces crossed between two nodes.
+    unsigned maxCrossingsPerStep = 200;
+  };
+
+  /// A fitter for `detector` (copied; no reference is kept). Throws
+  /// std::invalid_argument for a zero field or invalid settings.
+  explicit KalmanFitter(const Detector& detector);
+  KalmanFitter(const Detector& detector, const Config& config);
+
+  /// The settings.
+  const Config& config() const { return m_config; }
+  /// The surfaces and crossing search (shared with the simulation code).
+  const SurfaceNavigator& navigator() const { return m_navigator; }
+
+  /// Fits one found track. `hits` is the event's hit array that
+  /// found.hits indexes. The result carries the finder information, the
+  /// hits (all, in found order) with outlier flags, and, if fitted, the
+  /// states at the IP (reference origin), first and last used hit, chi2
+  /// and ndf = 2 n_used - 5.
+  Track fit(std::span<const Hit> hits, const FoundTrack& found,
+            FitInfo* info = nullptr) const;
+
+  /// Fits all candidates of an event.
+  FittingResult run(std::span<const Hit> hits,
+                    const std::vector<FoundTrack>& found) const;
+
+  /// Mass of the hypothesis [GeV].
+  double mass() const { return m_mass; }
+
+ private:
+  struct Pass;
+  struct Node;
+  struct Propagation;
+
+  /// Fits in one first direction (+1 along the hit order, -1 against).
+  FitStatus fitDirection(std::span<const Hit> hits, const FoundTrack& found,
+                         const std::vector<std::uint32_t>& surfaces,
+                         int direction, Track& track) const;
+  /// One filter pass over the hits in `order` (indices into found.hits).
+  FitStatus filter(std::span<const Hit> hits, const FoundTrack& found,
+                   const std::vector<std::uint32_t>& surfaces,
+                   const std::vector<std::uint32_t>& order, int direction,
+                   const HelixState& start, const TrackCovariance& startCov,
+                   bool materialAtFirstNode, std::vector<std::uint8_t>& skip,
+                   Pass& pass) const;
+  /// Propagates from the current node towards the surface `target`,
+  /// applying the material of every surface crossed.
+  FitStatus propagateToSurface(Propagation& state, int direction,
+                               std::uint32_t fromSurface,
+                               std::uint32_t target) const;
+  /// Propagates the state at the innermost node (inner side of the
+  /// surface `fromSurface`) to the PCA to the z axis.
+  FitStatus propagateToIp(Propagation& state, std::uint32_t fromSurface) const;
+  /// The state re-expressed at the crossing of its helix with `surface`
+  /// nearest to its PCA, with the Jacobian of the move.
+  FitStatus crossing(const HelixState& state, const NavigationSurface& surface,
+                     HelixState& moved, TrackJacobian& jacobian) const;
+  /// Moves the pivot of `state` to the crossing of its helix with
+  /// `surface` nearest to the PCA (no-op if already there).
+  FitStatus moveToCrossing(Propagation& state,
+                           const NavigationSurface& surface) const;
+  /// Applies the material of surface `surface` crossed at the pivot.
+  FitStatus applyMaterial(const NavigationSurface& surface, int direction,
+                          Propagation& state) const;
+
+  Config m_config;
+  double m_bz;
+  double m_mass;
+  bool m_electron;
+  Detector m_detector;
+  SurfaceNavigator m_navigator;
+};
+
+}  // namespace conftrack

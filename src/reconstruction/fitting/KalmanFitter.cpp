@@ -1,0 +1,854 @@
+#include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
+
+#include "conftrack/geometry/MaterialInteractions.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+namespace conftrack {
+
+namespace {
+
+using Matrix25 = Eigen::Matrix<double, 2, 5>;
+using Matrix52 = Eigen::Matrix<double, 5, 2>;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Smallest arc between two crossings, as the simulation (a surface just
+/// crossed is not found again within it) [mm].
+constexpr double kMinStep = 1e-4 * units::mm;
+/// Largest distance along the track between a node's PCA and the crossing
+/// of its own surface that is still taken as "the same crossing" [mm]:
+/// after an update the PCA moves by about the residual, divided by the
+/// cosine of the crossing angle along the track.
+constexpr double kOwnCrossingTolerance = 1.0 * units::m;
+/// Longest transverse arc searched for the next node [mm].
+constexpr double kMaxArc = 100.0 * units::m;
+/// The iterated update stops when the exact crossing residual agrees with
+/// the linear model within this fraction of the resolution.
+constexpr double kLinearTolerance = 0.02;
+/// A point closer than this to a surface is on it [mm].
+constexpr double kOnSurface = 1e-9 * units::mm;
+
+double massOfPdg(std::int32_t pdg) {
+  switch (std::abs(pdg)) {
+    case 11:
+      return constants::kElectronMass;
+    case 13:
+      return constants::kMuonMass;
+    case 321:
+      return constants::kKaonMass;
+    case 2212:
+      return constants::kProtonMass;
+    default:
+      return constants::kPionMass;
+  }
+}
+
+/// Crossing of the surface extended to infinity (cylinder in z, disk in
+/// r): a hit is on its layer even where the predicted track just misses
+/// the layer's edge.
+double crossExtended(const Helix& helix, const NavigationSurface& surface,
+                     double sMin, double sMax) {
+  switch (surface.shape) {
+    case SurfaceShape::eCylinder:
+      return helix.nextCylinderCrossing(surface.r, -kInf, kInf, sMin, sMax);
+    case SurfaceShape::eDisk:
+      return helix.nextDiskCrossing(surface.zMin, 0.0, kInf, sMin, sMax);
+    case SurfaceShape::eCone:
+      return helix.nextConeCrossing(surface.zMin, surface.zMax, surface.coneR1,
+                                    surface.coneSlope, sMin, sMax);
+  }
+  return kInf;
+}
+
+/// 2-D measurement of `hit` for the state predicted on its surface: the
+/// residual m - h(x) in the local frame, the measurement matrix H and the
+/// covariance V. Returns false where the crossing is tangent.
+///
+/// The predicted crossing X(a) = X(a, s(a)) moves along the track when d0
+/// or z0 change: dX/da = (1 - t g^T / (g . t)) dX/da|_s, with
+/// dX/dd0|_s = n = (-sin phi0, cos phi0, 0), dX/dz0|_s = z_hat and the other
+/// derivatives zero at the pivot (d0 = z0 = s = 0); t = (cos phi0, sin phi0,
+/// tanLambda) = dX/ds and g the surface normal (radial for a cylinder, z for
+/// a disk).
+bool measurementModel(const Hit& hit, const NavigationSurface& surface,
+                      const HelixState& state, Vector2& residual, Matrix25& h,
+                      Matrix2& v) {
+  const Vector3 x = state.pca();
+  const double phi = state.params[ePhi0];
+  const double tanLambda = state.params[eTanLambda];
+  const Vector3 t(std::cos(phi), std::sin(phi), tanLambda);
+  const Vector3 n(-t.y(), t.x(), 0.0);
+  h.setZero();
+  if (surface.shape == SurfaceShape::eCylinder) {
+    const double r = x.head<2>().norm();
+    if (!(r > 0.0)) {
+      return false;
+    }
+    const Vector3 radial(x.x() / r, x.y() / r, 0.0);
+    const Vector3 azimuthal(-radial.y(), radial.x(), 0.0);
+    const double ct = radial.dot(t);
+    if (std::abs(ct) < 1e-9) {
+      return false;
+    }
+    const Vector3 dd0 = n - t * (radial.dot(n) / ct);
+    h(0, eD0) = azimuthal.dot(dd0);
+    h(1, eD0) = dd0.z();
+    h(1, eZ0) = 1.0;
+    // u is the arc on the layer cylinder, as the smearing (HitSmearing).
+    const double phiHit = std::atan2(hit.position.y(), hit.position.x());
+    residual(0) = r * wrapAngle(phiHit - std::atan2(x.y(), x.x()));
+    residual(1) = hit.position.z() - x.z();
+  } else {
+    if (std::abs(tanLambda) < 1e-9) {
+      return false;
+    }
+    const Vector3 dz0 = Vector3::UnitZ() - t / tanLambda;
+    h(0, eD0) = hit.uAxis.dot(n);
+    h(0, eZ0) = hit.uAxis.dot(dz0);
+    h(1, eD0) = hit.vAxis.dot(n);
+    h(1, eZ0) = hit.vAxis.dot(dz0);
+    const Vector3 d = hit.position - x;
+    residual(0) = d.dot(hit.uAxis);
+    residual(1) = d.dot(hit.vAxis);
+  }
+  v.setZero();
+  v(0, 0) = hit.sigmaU * hit.sigmaU;
+  v(1, 1) = hit.sigmaV * hit.sigmaV;
+  return true;
+}
+
+void symmetrize(TrackCovariance& c) { c = 0.5 * (c + c.transpose()).eval(); }
+
+}  // namespace
+
+/// A state on its way between nodes: parameters and covariance relative
+/// to `pivot`, and the accumulated transport Jacobian since the last node
+/// (without process noise: the RTS smoother needs F, and the predicted
+/// covariance F C F^T + Q).
+struct KalmanFitter::Propagation {
+  Vector3 pivot = Vector3::Zero();
+  TrackVector params = TrackVector::Zero();
+  TrackCovariance cov = TrackCovariance::Zero();
+  TrackJacobian jacobian = TrackJacobian::Identity();
+};
+
+/// A hit node of a filter pass.
+struct KalmanFitter::Node {
+  /// Index of the hit in FoundTrack::hits.
+  std::uint32_t hit = 0;
+  /// Predicted crossing of the hit's surface: the reference point.
+  Vector3 pivot = Vector3::Zero();
+  TrackVector predicted = TrackVector::Zero();
+  TrackCovariance predictedCov = TrackCovariance::Zero();
+  TrackVector filtered = TrackVector::Zero();
+  TrackCovariance filteredCov = TrackCovariance::Zero();
+  /// Transport from the previous node of the pass.
+  TrackJacobian jacobian = TrackJacobian::Identity();
+  /// False for outliers.
+  bool used = false;
+};
+
+/// The nodes and chi2 of one filter pass.
+struct KalmanFitter::Pass {
+  std::vector<Node> nodes;
+  double chi2 = 0.0;
+  std::uint32_t used = 0;
+};
+
+KalmanFitter::KalmanFitter(const Detector& detector)
+    : KalmanFitter(detector, Config()) {}
+
+KalmanFitter::KalmanFitter(const Detector& detector, const Config& config)
+    : m_config(config),
+      m_bz(detector.bz()),
+      m_mass(massOfPdg(config.pdg)),
+      m_electron(std::abs(config.pdg) == 11),
+      m_detector(detector),
+      m_navigator(detector) {
+  if (m_bz == 0.0) {
+    throw std::invalid_argument("KalmanFitter: needs a non-zero field");
+  }
+  if (!(m_config.maxChi2Increment > 0.0)) {
+    throw std::invalid_argument("KalmanFitter: maxChi2Increment must be > 0");
+  }
+  if (!(m_config.initialVariance.array() > 0.0).all() ||
+      !m_config.initialVariance.allFinite()) {
+    throw std::invalid_argument(
+        "KalmanFitter: initialVariance must be positive and finite");
+  }
+  if (!(m_config.refitCovarianceScale >= 1.0)) {
+    throw std::invalid_argument(
+        "KalmanFitter: refitCovarianceScale must be >= 1");
+  }
+  if (m_config.minHits < 3) {
+    throw std::invalid_argument("KalmanFitter: minHits must be >= 3");
+  }
+  if (!(m_config.minCosIncidence > 0.0 && m_config.minCosIncidence <= 1.0)) {
+    throw std::invalid_argument(
+        "KalmanFitter: minCosIncidence must be in (0, 1]");
+  }
+  if (m_config.maxCrossingsPerStep == 0) {
+    throw std::invalid_argument(
+        "KalmanFitter: maxCrossingsPerStep must be positive");
+  }
+}
+
+FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
+                                      int direction,
+                                      Propagation& state) const {
+  if (!(surface.thicknessX0 > 0.0) ||
+      (!m_config.multipleScattering && !m_config.energyLoss)) {
+    return FitStatus::eSuccess;
+  }
+  const HelixState helix{state.pivot, state.params};
+  // Path length at the actual crossing angle, with the simulation's caps.
+  const double cosIncidence =
+      std::max(std::abs(helix.direction().dot(surface.normal(helix.pca()))),
+               std::max(m_config.minCosIncidence, surface.grazingCos));
+  const double xOverX0 = surface.thicknessX0 / cosIncidence;
+  if (std::getenv("FITDBG2")) std::fprintf(stderr, "  mat dir %d layer %d r %.1f z %.1f x %.4f cos %.3f\n", direction, surface.layer, helix.pca().head<2>().norm(), helix.pca().z(), xOverX0, cosIncidence);
+  const double omega = state.params[eOmega];
+  const double tanLambda = state.params[eTanLambda];
+  const double secLambda2 = 1.0 + tanLambda * tanLambda;
+  const double p = constants::kPtPerTeslaMm * std::abs(m_bz) /
+                   std::max(std::abs(omega), kMinAbsOmega) *
+                   std::sqrt(secLambda2);
+  const double m = m_mass;
+  // Momenta before and after the layer along the motion.
+  double pBefore = p;
+  double pAfter = p;
+  if (m_config.energyLoss) {
+    if (direction > 0) {
+      const double energy =
+          std::hypot(p, m) - betheMeanEnergyLoss(p, m, 1.0, xOverX0);
+      if (!(energy > m)) {
+        return FitStatus::eParticleStopped;
+      }
+      pAfter = std::sqrt((energy - m) * (energy + m));
+    } else {
+      // E_before - loss(p_before) = E_after: a fixed-point iteration (the
+      // loss changes by < 1e-3 relative between iterations).
+      const double energyAfter = std::hypot(p, m);
+      for (int i = 0; i < 3; ++i) {
+        const double energy =
+            energyAfter + betheMeanEnergyLoss(pBefore, m, 1.0, xOverX0);
+        pBefore = std::sqrt((energy - m) * (energy + m));
+      }
+    }
+    if (pAfter < m_config.minMomentum) {
+      return FitStatus::eParticleStopped;
+    }
+    // Omega ~ 1/p at fixed lambda. d(Omega')/d(Omega) = ratio^2 beta/beta'
+    // (the p dependence of the loss itself neglected).
+    const double pNew = direction > 0 ? pAfter : pBefore;
+    const double ratio = p / pNew;
+    const double derivative = ratio * ratio * (p / std::hypot(p, m)) /
+                              (pNew / std::hypot(pNew, m));
+    state.params[eOmega] = omega * ratio;
+    state.cov.row(eOmega) *= derivative;
+    state.cov.col(eOmega) *= derivative;
+    state.jacobian.row(eOmega) *= derivative;
+  }
+  if (m_config.multipleScattering) {
+    // Scattering with the momentum before the loss, as the simulation.
+    const double beta = pBefore / std::hypot(pBefore, m);
+    const double theta0 = m_electron
+                              ? rossiGreisenTheta0(pBefore, 1.0, xOverX0)
+                              : highlandTheta0(pBefore, beta, 1.0, xOverX0);
+    const double var = theta0 * theta0;
+    // Two projected angles: d phi = theta1 / cos(lambda), d lambda =
+    // theta2; d tanLambda = sec^2 d lambda and, at fixed p, d Omega =
+    // Omega tanLambda d lambda.
+    state.cov(ePhi0, ePhi0) += var * secLambda2;
+    TrackVector g = TrackVector::Zero();
+    g[eOmega] = state.params[eOmega] * tanLambda;
+    g[eTanLambda] = secLambda2;
+    state.cov += var * g * g.transpose();
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::crossing(const HelixState& state,
+                                 const NavigationSurface& surface,
+                                 HelixState& moved,
+                                 TrackJacobian& jacobian) const {
+  // The crossing of the (extended) surface nearest to the PCA, searched
+  // along and against the motion within kOwnCrossingTolerance. A PCA on
+  // the surface stays (the searches exclude s = 0 and would find the next
+  // crossing instead).
+  moved = state;
+  jacobian.setIdentity();
+  const Vector3 pca = state.pca();
+  const double offSurface = surface.shape == SurfaceShape::eDisk
+                                ? pca.z() - surface.zMin
+                                : pca.head<2>().norm() - surface.r;
+  if (std::abs(offSurface) <= kOnSurface) {
+    return FitStatus::eSuccess;
+  }
+  const Helix forward = makeHelix(state, m_bz, +1);
+  const double ahead =
+      crossExtended(forward, surface, 0.0, kOwnCrossingTolerance);
+  const double behind = crossExtended(makeHelix(state, m_bz, -1), surface,
+                                      0.0, kOwnCrossingTolerance);
+  double s = 0.0;
+  if (ahead <= behind && ahead < kInf) {
+    s = ahead;
+  } else if (behind < kInf) {
+    s = -behind;
+  } else {
+    return FitStatus::ePropagationFailed;
+  }
+  moved.pivot = forward.position(s);
+  const double sMoved = movePivot(state.params, state.pivot, moved.pivot, s,
+                                  moved.params, &jacobian);
+  if (!std::isfinite(sMoved) || !moved.params.allFinite()) {
+    return FitStatus::eNumericalProblem;
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::moveToCrossing(Propagation& state,
+                                       const NavigationSurface& surface) const {
+  HelixState moved;
+  TrackJacobian jacobian;
+  const FitStatus status =
+      crossing({state.pivot, state.params}, surface, moved, jacobian);
+  if (status != FitStatus::eSuccess) {
+    return status;
+  }
+  if (moved.pivot != state.pivot) {
+    state.pivot = moved.pivot;
+    state.params = moved.params;
+    state.cov = jacobian * state.cov * jacobian.transpose();
+    state.jacobian = jacobian * state.jacobian;
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
+                                           std::uint32_t fromSurface,
+                                           std::uint32_t target) const {
+  const auto& surfaces = m_navigator.surfaces();
+  FitStatus status = moveToCrossing(state, surfaces[fromSurface]);
+  if (status != FitStatus::eSuccess) {
+    return status;
+  }
+  if (direction > 0) {
+    // Along the motion the material of the node comes after its hit.
+    status = applyMaterial(surfaces[fromSurface], +1, state);
+    if (status != FitStatus::eSuccess) {
+      return status;
+    }
+  }
+  Helix walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+  const NavigationSurface& goal = surfaces[target];
+  for (unsigned n = 0; n < m_config.maxCrossingsPerStep; ++n) {
+    const double sMax = std::min(walk.period(), kMaxArc);
+    const double sGoal = crossExtended(walk, goal, kMinStep, sMax);
+    if (!(sGoal < kInf)) {
+      return FitStatus::ePropagationFailed;
+    }
+    const SurfaceCrossing next = m_navigator.nextCrossing(walk, kMinStep, sGoal);
+    const bool arrive = !next.found() || next.surface == target;
+    const double s = arrive ? sGoal : next.s;
+    const Vector3 position = walk.position(s);
+    TrackVector moved;
+    TrackJacobian jacobian;
+    const double sMoved =
+        movePivot(state.params, state.pivot, position, direction * s, moved,
+                  &jacobian);
+    if (!std::isfinite(sMoved) || !moved.allFinite()) {
+      return FitStatus::eNumericalProblem;
+    }
+    state.params = moved;
+    state.cov = jacobian * state.cov * jacobian.transpose();
+    state.jacobian = jacobian * state.jacobian;
+    state.pivot = position;
+    if (arrive) {
+      // Against the motion the node's material is crossed before its hit;
+      // node states stay on the side the particle comes from.
+      return direction < 0 ? applyMaterial(goal, -1, state)
+                           : FitStatus::eSuccess;
+    }
+    status = applyMaterial(surfaces[next.surface], direction, state);
+    if (status != FitStatus::eSuccess) {
+      return status;
+    }
+    walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+  }
+  return FitStatus::ePropagationFailed;
+}
+
+FitStatus KalmanFitter::propagateToIp(Propagation& state,
+                                      std::uint32_t fromSurface) const {
+  const Vector3 origin = Vector3::Zero();
+  const auto& surfaces = m_navigator.surfaces();
+  TrackVector atOrigin;
+  // Transverse arc from the current PCA to the PCA to the z axis, within
+  // half a turn (physics.md 3).
+  double s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+  if (!std::isfinite(s)) {
+    return FitStatus::eNumericalProblem;
+  }
+  if (m_config.materialToIp && std::abs(s) > kMinStep) {
+    FitStatus status = moveToCrossing(state, surfaces[fromSurface]);
+    if (status != FitStatus::eSuccess) {
+      return status;
+    }
+    s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+    const int direction = s < 0.0 ? -1 : 1;
+    if (direction > 0) {
+      // PCA after the innermost hit (not a prompt track): its material
+      // comes first.
+      status = applyMaterial(surfaces[fromSurface], +1, state);
+      if (status != FitStatus::eSuccess) {
+        return status;
+      }
+      s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+    }
+    Helix walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+    for (unsigned n = 0; n < m_config.maxCrossingsPerStep; ++n) {
+      const double remaining = std::abs(s);
+      if (!(remaining > kMinStep)) {
+        break;
+      }
+      const SurfaceCrossing next =
+          m_navigator.nextCrossing(walk, kMinStep, remaining);
+      if (!next.found()) {
+        break;
+      }
+      const Vector3 position = walk.position(next.s);
+      TrackVector moved;
+      TrackJacobian jacobian;
+      const double sMoved =
+          movePivot(state.params, state.pivot, position, direction * next.s,
+                    moved, &jacobian);
+      if (!std::isfinite(sMoved) || !moved.allFinite()) {
+        return FitStatus::eNumericalProblem;
+      }
+      state.params = moved;
+      state.cov = jacobian * state.cov * jacobian.transpose();
+      state.pivot = position;
+      status = applyMaterial(surfaces[next.surface], direction, state);
+      if (status != FitStatus::eSuccess) {
+        return status;
+      }
+      s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+      if (!(s * direction > 0.0)) {
+        break;
+      }
+      walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+    }
+  }
+  TrackJacobian jacobian;
+  s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin, &jacobian);
+  if (!std::isfinite(s) || !atOrigin.allFinite()) {
+    return FitStatus::eNumericalProblem;
+  }
+  state.params = atOrigin;
+  state.cov = jacobian * state.cov * jacobian.transpose();
+  state.pivot = origin;
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::filter(std::span<const Hit> hits,
+                               const FoundTrack& found,
+                               const std::vector<std::uint32_t>& surfaces,
+                               const std::vector<std::uint32_t>& order,
+                               int direction, const HelixState& start,
+                               const TrackCovariance& startCov,
+                               bool materialAtFirstNode,
+                               std::vector<std::uint8_t>& skip,
+                               Pass& pass) const {
+  const auto& navSurfaces = m_navigator.surfaces();
+  pass.nodes.clear();
+  pass.nodes.reserve(order.size());
+  pass.chi2 = 0.0;
+  pass.used = 0;
+  Propagation state;
+  std::uint32_t previousSurface = kInvalidIndex;
+  for (std::uint32_t index : order) {
+    if (skip[index] != 0) {
+      continue;
+    }
+    const std::uint32_t surface = surfaces[index];
+    Propagation trial;
+    if (pass.nodes.empty()) {
+      trial.pivot = start.pivot;
+      trial.params = start.params;
+      trial.cov = startCov;
+      // The start state may be off its surface (an updated state):
+      // measure at its actual crossing.
+      FitStatus status = moveToCrossing(trial, navSurfaces[surface]);
+      if (status == FitStatus::eSuccess && materialAtFirstNode &&
+          direction < 0) {
+        status = applyMaterial(navSurfaces[surface], -1, trial);
+      }
+      if (status != FitStatus::eSuccess) {
+        return status;
+      }
+    } else {
+      trial = state;
+      trial.jacobian.setIdentity();
+      FitStatus status =
+          propagateToSurface(trial, direction, previousSurface, surface);
+      if (status == FitStatus::ePropagationFailed) {
+        // The predicted track does not reach this hit's surface: the hit
+        // cannot belong to it. Flag it and go on from the same state.
+        skip[index] = 1;
+        continue;
+      }
+      if (status != FitStatus::eSuccess) {
+        return status;
+      }
+    }
+    Node& node = pass.nodes.emplace_back();
+    node.hit = index;
+    node.pivot = trial.pivot;
+    node.predicted = trial.params;
+    node.predictedCov = trial.cov;
+    node.jacobian = trial.jacobian;
+    node.filtered = trial.params;
+    node.filteredCov = trial.cov;
+
+    const Hit& hit = hits[found.hits[index]];
+    const NavigationSurface& layer = navSurfaces[surface];
+    // Iterated update (IEKF): the crossing point is a non-linear function
+    // of the parameters (a square root near tangency), so the measurement
+    // is re-linearised at the updated state until the linear model agrees
+    // with the exact crossing:
+    //   x_i+1 = x_pred + K_i (m - h(x_i) - H_i (x_pred - x_i)),
+    // K_i and H_i at x_i; h(x) is the measured crossing of the helix x.
+    Vector2 residual;
+    Matrix25 h;
+    Matrix2 v;
+    bool accepted = measurementModel(hit, layer, {trial.pivot, trial.params},
+                                     residual, h, v);
+    if (accepted) {
+      const TrackVector& x0 = trial.params;
+      TrackVector xi = x0;
+      Matrix52 gain;
+      double chi2 = 0.0;
+      TrackVector next = x0;
+      for (unsigned iteration = 0;; ++iteration) {
+        const Vector2 innovation = residual + h * (xi - x0);
+        const Matrix52 pht = trial.cov * h.transpose();
+        const Matrix2 s = v + h * pht;
+        const double det = s.determinant();
+        if (!(det > 0.0) || !std::isfinite(det)) {
+          return FitStatus::eNumericalProblem;
+        }
+        const Matrix2 sInv = s.inverse();
+        chi2 = innovation.dot(sInv * innovation);
+        if (!std::isfinite(chi2)) {
+          return FitStatus::eNumericalProblem;
+        }
+        gain = pht * sInv;
+        next = x0 + gain * innovation;
+        next[ePhi0] = wrapAngle(next[ePhi0]);
+        if (iteration + 1 >= m_config.maxUpdateIterations) {
+          break;
+        }
+        // Exact residual at the new state versus the linear prediction.
+        HelixState atCrossing;
+        TrackJacobian toCrossing;
+        Vector2 exact;
+        Matrix25 hNext;
+        Matrix2 vNext;
+        if (crossing({trial.pivot, next}, layer, atCrossing, toCrossing) !=
+                FitStatus::eSuccess ||
+            !measurementModel(hit, layer, atCrossing, exact, hNext, vNext)) {
+          break;
+        }
+        TrackVector step = next - xi;
+        step[ePhi0] = wrapAngle(step[ePhi0]);
+        const Vector2 linear = residual - h * step;
+        const Vector2 deviation = exact - linear;
+        if (std::abs(deviation(0)) <= kLinearTolerance * hit.sigmaU &&
+            std::abs(deviation(1)) <= kLinearTolerance * hit.sigmaV) {
+          break;
+        }
+        xi = next;
+        residual = exact;
+        h = hNext * toCrossing;
+      }
+      if (std::getenv("FITDBG")) { Matrix2 ss = v + h * trial.cov * h.transpose(); std::fprintf(stderr, "dir %d node %u chi2 %.3g res %.4g %.4g S %.3g %.3g corr %.3f V %.3g %.3g\n", direction, index, chi2, residual(0), residual(1), std::sqrt(ss(0,0)), std::sqrt(ss(1,1)), ss(0,1)/std::sqrt(ss(0,0)*ss(1,1)), std::sqrt(v(0,0)), std::sqrt(v(1,1)));}
+      if (chi2 <= m_config.maxChi2Increment) {
+        // Joseph form (Frühwirth 1987 eq. 7-9): stays positive definite
+        // when the diffuse prior shrinks by many orders in one step.
+        node.filtered = next;
+        const TrackJacobian ikh = TrackJacobian::Identity() - gain * h;
+        node.filteredCov = ikh * trial.cov * ikh.transpose() +
+                           gain * v * gain.transpose();
+        symmetrize(node.filteredCov);
+        node.used = true;
+        pass.chi2 += chi2;
+        ++pass.used;
+      }
+    }
+    if (!node.used) {
+      skip[index] = 1;
+    }
+    state.pivot = node.pivot;
+    state.params = node.filtered;
+    state.cov = node.filteredCov;
+    previousSurface = surface;
+  }
+  if (pass.used < m_config.minHits) {
+    return FitStatus::eTooFewMeasurements;
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::fitDirection(std::span<const Hit> hits,
+                                     const FoundTrack& found,
+                                     const std::vector<std::uint32_t>& surfaces,
+                                     int direction, Track& track) const {
+  const std::size_t n = found.hits.size();
+  const auto prefit =
+      threePointHelix(hits[found.hits.front()].position,
+                      hits[found.hits[n / 2]].position,
+                      hits[found.hits.back()].position);
+  if (!prefit) {
+    return FitStatus::ePrefitFailed;
+  }
+  std::vector<std::uint32_t> order(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    order[i] = direction > 0 ? i : static_cast<std::uint32_t>(n - 1 - i);
+  }
+  // Pass 1: from the prefit with the diffuse covariance.
+  HelixState start;
+  start.pivot = hits[found.hits[order.front()]].position;
+  start.params = direction > 0 ? prefit->atFirst : prefit->atLast;
+  TrackCovariance startCov = m_config.initialVariance.asDiagonal();
+  if (m_config.prefitOmegaFraction > 0.0) {
+    // The three hits span the whole track: their curvature is a far
+    // better start than "anything" (upstream's 1e-4 mm^-2 allows radii
+    // down to 100 mm), which on a short lever arm (e.g. the two double
+    // disks of the forward vertex detector first) lets the first hits
+    // pull Omega so far that the extrapolation to the next layer leaves
+    // the linear regime.
+    const double sigma = m_config.prefitOmegaFraction *
+                             std::abs(start.params[eOmega]) +
+                         m_config.prefitOmegaFloor;
+    startCov(eOmega, eOmega) =
+        std::min(startCov(eOmega, eOmega), sigma * sigma);
+  }
+  std::vector<std::uint8_t> skip(n, 0);
+  Pass pass;
+  FitStatus status = filter(hits, found, surfaces, order, direction, start,
+                            startCov, false, skip, pass);
+  if (status != FitStatus::eSuccess) {
+    return status;
+  }
+  // Further passes, alternating in direction, each from the last used node
+  // of the previous one with its covariance scaled.
+  const int passes = 2 + static_cast<int>(m_config.extraPasses);
+  int passDirection = direction;
+  for (int iteration = 1; iteration < passes; ++iteration) {
+    auto lastUsed = std::find_if(pass.nodes.rbegin(), pass.nodes.rend(),
+                                 [](const Node& node) { return node.used; });
+    passDirection = -passDirection;
+    order.clear();
+    if (passDirection > 0) {
+      for (std::uint32_t i = lastUsed->hit; i < n; ++i) {
+        order.push_back(i);
+      }
+    } else {
+      for (std::uint32_t i = lastUsed->hit + 1; i-- > 0;) {
+        order.push_back(i);
+      }
+    }
+    start.pivot = lastUsed->pivot;
+    start.params = lastUsed->filtered;
+    const TrackCovariance cov =
+        lastUsed->filteredCov * m_config.refitCovarianceScale;
+    Pass next;
+    status = filter(hits, found, surfaces, order, passDirection, start, cov,
+                    false, skip, next);
+    if (status != FitStatus::eSuccess) {
+      return status;
+    }
+    pass = std::move(next);
+  }
+  direction = -passDirection;  // the smoothed pass runs against `direction`
+
+  // RTS smoother (Frühwirth 1987 eq. 19-21) over the nodes of pass 2:
+  // G = C_k|k F^T C_k+1|k^-1, computed as G^T = C_k+1|k^-1 (F C_k|k) with
+  // a Cholesky solve.
+  std::vector<Node>& nodes = pass.nodes;
+  std::vector<TrackVector> smoothed(nodes.size());
+  std::vector<TrackCovariance> smoothedCov(nodes.size());
+  smoothed.back() = nodes.back().filtered;
+  smoothedCov.back() = nodes.back().filteredCov;
+  for (std::size_t k = nodes.size() - 1; k-- > 0;) {
+    const Node& node = nodes[k];
+    const Node& next = nodes[k + 1];
+    const Eigen::LDLT<TrackCovariance> ldlt(next.predictedCov);
+    if (ldlt.info() != Eigen::Success) {
+      return FitStatus::eNumericalProblem;
+    }
+    const TrackJacobian gainT = ldlt.solve(next.jacobian * node.filteredCov);
+    TrackVector diff = smoothed[k + 1] - next.predicted;
+    diff[ePhi0] = wrapAngle(diff[ePhi0]);
+    smoothed[k] = node.filtered + gainT.transpose() * diff;
+    smoothed[k][ePhi0] = wrapAngle(smoothed[k][ePhi0]);
+    smoothedCov[k] = node.filteredCov + gainT.transpose() *
+                                            (smoothedCov[k + 1] -
+                                             next.predictedCov) *
+                                            gainT;
+    symmetrize(smoothedCov[k]);
+    if (!smoothed[k].allFinite() || !smoothedCov[k].allFinite()) {
+      return FitStatus::eNumericalProblem;
+    }
+  }
+
+  // Nodes in path order: pass 2 runs against `direction`.
+  auto pathNode = [&](std::size_t i) {
+    return direction > 0 ? nodes.size() - 1 - i : i;
+  };
+  const std::size_t innermost = pathNode(0);
+  Propagation ip;
+  ip.pivot = nodes[innermost].pivot;
+  ip.params = smoothed[innermost];
+  ip.cov = smoothedCov[innermost];
+  status = propagateToIp(ip, surfaces[nodes[innermost].hit]);
+  if (status != FitStatus::eSuccess) {
+    return status;
+  }
+  if (!ip.params.allFinite() || !ip.cov.allFinite() ||
+      !(ip.cov.diagonal().array() > 0.0).all()) {
+    return FitStatus::eNumericalProblem;
+  }
+  std::size_t firstUsed = nodes.size();
+  std::size_t lastUsedPath = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[pathNode(i)].used) {
+      firstUsed = std::min(firstUsed, i);
+      lastUsedPath = i;
+    }
+  }
+  auto stateAt = [&](std::size_t pathIndex) {
+    const std::size_t k = pathNode(pathIndex);
+    TrackState out;
+    out.reference = nodes[k].pivot;
+    out.parameters = smoothed[k];
+    out.covariance = smoothedCov[k];
+    return out;
+  };
+  track.atIp.reference = Vector3::Zero();
+  track.atIp.parameters = ip.params;
+  symmetrize(ip.cov);
+  track.atIp.covariance = ip.cov;
+  track.atFirstHit = stateAt(firstUsed);
+  track.atLastHit = stateAt(lastUsedPath);
+  track.chi2 = pass.chi2;
+  track.ndf = 2 * static_cast<int>(pass.used) - 5;
+  track.fitted = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    track.outlier[i] = skip[i];
+  }
+  return FitStatus::eSuccess;
+}
+
+Track KalmanFitter::fit(std::span<const Hit> hits, const FoundTrack& found,
+                        FitInfo* info) const {
+  Track track;
+  track.hits = found.hits;
+  track.outlier.assign(found.hits.size(), 0);
+  track.findingStep = found.step;
+  track.ptEstimate = found.pt;
+  track.chargeEstimate = found.charge;
+  track.chi2Uv = found.uv.chi2;
+  track.ndfUv = found.uv.ndf;
+  track.chi2Sz = found.sz.chi2;
+  track.ndfSz = found.sz.ndf;
+  FitInfo local;
+  FitInfo& out = info != nullptr ? *info : local;
+  out = FitInfo();
+
+  auto finish = [&](FitStatus status) {
+    out.status = status;
+    if (out.firstStatus == FitStatus::eSuccess) {
+      out.firstStatus = status;
+    }
+    return track;
+  };
+  if (found.hits.size() < m_config.minHits) {
+    return finish(FitStatus::eTooFewHits);
+  }
+  std::vector<std::uint32_t> surfaces(found.hits.size());
+  for (std::size_t i = 0; i < found.hits.size(); ++i) {
+    const HitIndex h = found.hits[i];
+    if (h >= hits.size()) {
+      throw std::out_of_range("KalmanFitter: hit index out of range");
+    }
+    const auto layer = m_detector.findLayer(hits[h].detId);
+    if (!layer) {
+      return finish(FitStatus::eUnknownLayer);
+    }
+    // Sensitive layers come first in the navigator's list.
+    surfaces[i] = *layer;
+  }
+
+  const int first = found.fitBackward ? -1 : +1;
+  Track attempt = track;
+  FitStatus status = fitDirection(hits, found, surfaces, first, attempt);
+  out.firstStatus = status;
+  const bool retry =
+      m_config.retryInverted &&
+      (status != FitStatus::eSuccess ||
+       attempt.numMeasurements() < m_config.maxHitInvertedFit);
+  if (retry) {
+    out.retried = true;
+    Track inverted = track;
+    const FitStatus second =
+        fitDirection(hits, found, surfaces, -first, inverted);
+    if (second == FitStatus::eSuccess &&
+        (status != FitStatus::eSuccess ||
+         inverted.numMeasurements() > attempt.numMeasurements())) {
+      attempt = std::move(inverted);
+      status = second;
+      out.inverted = true;
+    }
+  }
+  out.status = status;
+  if (status == FitStatus::eSuccess) {
+    return attempt;
+  }
+  return track;
+}
+
+FittingResult KalmanFitter::run(std::span<const Hit> hits,
+                                const std::vector<FoundTrack>& found) const {
+  const auto start = std::chrono::steady_clock::now();
+  FittingResult result;
+  result.tracks.reserve(found.size());
+  for (const FoundTrack& candidate : found) {
+    FitInfo info;
+    result.tracks.push_back(fit(hits, candidate, &info));
+    if (info.retried) {
+      ++result.retries;
+    }
+    if (info.status != FitStatus::eSuccess) {
+      ++result.failures;
+    } else {
+      result.outliers += result.tracks.back().numOutliers();
+    }
+  }
+  result.milliseconds = std::chrono::duration<double, std::milli>(
+                            std::chrono::steady_clock::now() - start)
+                            .count();
+  return result;
+}
+
+}  // namespace conftrack

@@ -1,0 +1,178 @@
+// Physics checks of the conformal finder on simulated events (truth is
+// used only here, to score the result). The sample sizes are the CI ones;
+// the issue's full-statistics checks are documented in the README
+// ("Validation") and run with the same code through `conftrack run`.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <random>
+
+#include "conftrack/core/Random.hpp"
+#include "conftrack/evaluation/TruthMatching.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
+#include "conftrack/simulation/EventSimulation.hpp"
+
+namespace conftrack {
+namespace {
+
+struct Score {
+  std::size_t particles = 0;  // selected reconstructable particles
+  std::size_t found = 0;      // ... with a matched (pure) track
+  std::size_t tracks = 0;
+  std::size_t impure = 0;     // tracks with purity < 75 %
+  double findMs = 0.0;
+  std::size_t events = 0;
+};
+
+std::vector<std::vector<HitIndex>> hitLists(const FindingResult& r) {
+  std::vector<std::vector<HitIndex>> v;
+  for (const FoundTrack& t : r.tracks) {
+    v.push_back(t.hits);
+  }
+  return v;
+}
+
+/// Simulates and reconstructs `n` events; scores particles with pT above
+/// minPt (and, with minHitFraction, requires the matched track to hold
+/// that fraction of the particle's hits).
+Score score(const Detector& det, const ConformalTrackFinder& finder,
+            EventSimulation::Config cfg, std::size_t n, double minPt,
+            double minHitFraction = 0.0) {
+  EventSimulation sim(det, cfg);
+  Score s;
+  for (std::size_t e = 0; e < n; ++e) {
+    Event ev = sim.simulate(e + 1);
+    FindingResult r = finder.run(ev.hits);
+    s.findMs += r.milliseconds;
+    ++s.events;
+    auto lists = hitLists(r);
+    EventMatching m = matchTracks(ev, lists);
+    std::vector<std::uint32_t> bestHits(ev.particles.size(), 0);
+    for (const TrackMatch& t : m.tracks) {
+      ++s.tracks;
+      if (t.purity < 0.75) {
+        ++s.impure;
+      }
+      if (t.matched) {
+        bestHits[t.particle] = std::max(bestHits[t.particle], t.nMajority);
+      }
+    }
+    for (std::size_t p = 0; p < ev.particles.size(); ++p) {
+      const Particle& part = ev.particles[p];
+      if (!m.particles[p].reconstructable || part.pt() < minPt ||
+          part.isBackground()) {
+        continue;
+      }
+      ++s.particles;
+      if (bestHits[p] > 0 &&
+          bestHits[p] >= minHitFraction * m.particles[p].nHits) {
+        ++s.found;
+      }
+    }
+  }
+  return s;
+}
+
+class FinderPhysics : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    s_detector = new Detector(loadDetector("clicdet"));
+    s_finder = new ConformalTrackFinder(
+        *s_detector, {readChain(resolveChainPath("clicdet"), *s_detector)});
+  }
+  static void TearDownTestSuite() {
+    delete s_finder;
+    delete s_detector;
+  }
+  static Detector* s_detector;
+  static ConformalTrackFinder* s_finder;
+};
+Detector* FinderPhysics::s_detector = nullptr;
+ConformalTrackFinder* FinderPhysics::s_finder = nullptr;
+
+void report(const char* name, const Score& s) {
+  std::printf(
+      "[ %s ] efficiency %.4f (%zu/%zu), impure tracks %.4f (%zu/%zu), "
+      "finding %.1f ms/event\n",
+      name, double(s.found) / std::max<std::size_t>(1, s.particles), s.found,
+      s.particles, double(s.impure) / std::max<std::size_t>(1, s.tracks),
+      s.impure, s.tracks, s.findMs / std::max<std::size_t>(1, s.events));
+}
+
+TEST_F(FinderPhysics, SingleMuons) {
+  // pT 1, 10, 100 GeV; theta from 10 to 90 degrees; both charges.
+  std::size_t found = 0;
+  std::size_t total = 0;
+  for (double pt : {1.0, 10.0, 100.0}) {
+    EventSimulation::Config cfg;
+    cfg.sample = "muons";
+    cfg.seed = 11;
+    cfg.generatorToml =
+        "[generator]\nsample = \"gun\"\nparticle = \"mu-\"\n"
+        "random_charge = true\nmultiplicity = 10\npt_GeV = " +
+        std::to_string(pt) +
+        "\ntheta_min_deg = 10.0\ntheta_max_deg = 90.0\n"
+        "theta_sampling = \"theta\"\n";
+    Score s = score(*s_detector, *s_finder, cfg, 100, 0.0, 0.9);
+    report(("muons pT " + std::to_string(int(pt)) + " GeV").c_str(), s);
+    found += s.found;
+    total += s.particles;
+    EXPECT_EQ(s.impure, 0u);
+  }
+  // Issue: >= 99.9 % of 10,000 muons; CI runs 3,000, so allow 2 misses
+  // beyond 99.9 % (0.1 % of 3,000 = 3).
+  EXPECT_GE(found + 5, total) << found << " of " << total;
+}
+
+TEST_F(FinderPhysics, TtbarWithoutBackground) {
+  EventSimulation::Config cfg;
+  cfg.sample = "ttbar3tev";
+  cfg.seed = 21;
+  Score s = score(*s_detector, *s_finder, cfg, 40, 1.0);
+  report("ttbar pT > 1 GeV", s);
+  EXPECT_GE(double(s.found) / s.particles, 0.995);
+  EXPECT_LE(double(s.impure) / s.tracks, 0.01);
+}
+
+TEST_F(FinderPhysics, TtbarWith30BunchCrossings) {
+  EventSimulation::Config cfg;
+  cfg.sample = "ttbar3tev";
+  cfg.overlayBx = 30;
+  cfg.seed = 31;
+  Score s = score(*s_detector, *s_finder, cfg, 15, 1.0);
+  report("ttbar + 30 BX pT > 1 GeV", s);
+  EXPECT_GE(double(s.found) / s.particles, 0.99);
+  EXPECT_LE(double(s.impure) / s.tracks, 0.02);
+}
+
+TEST_F(FinderPhysics, IndependentOfHitOrder) {
+  EventSimulation::Config cfg;
+  cfg.sample = "ttbar3tev";
+  cfg.overlayBx = 10;
+  cfg.seed = 41;
+  EventSimulation sim(*s_detector, cfg);
+  Event ev = sim.simulate(1);
+  auto asIds = [&](const std::vector<Hit>& hits, const FindingResult& r) {
+    std::vector<std::vector<std::uint64_t>> ids;
+    for (const FoundTrack& t : r.tracks) {
+      std::vector<std::uint64_t> v;
+      for (HitIndex h : t.hits) {
+        v.push_back(hits[h].id);
+      }
+      ids.push_back(v);
+    }
+    return ids;
+  };
+  auto reference = asIds(ev.hits, s_finder->run(ev.hits));
+  ASSERT_GT(reference.size(), 50u);
+  std::vector<Hit> shuffled = ev.hits;
+  std::mt19937_64 rng(5);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  EXPECT_EQ(asIds(shuffled, s_finder->run(shuffled)), reference);
+}
+
+}  // namespace
+}  // namespace conftrack
