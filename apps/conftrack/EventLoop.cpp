@@ -1,5 +1,8 @@
 #include "EventLoop.hpp"
 
+#include "conftrack/core/DataFiles.hpp"
+#include "conftrack/core/Error.hpp"
+
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -8,8 +11,6 @@
 #include <thread>
 
 #include "Progress.hpp"
-#include "conftrack/core/DataFiles.hpp"
-#include "conftrack/core/Error.hpp"
 
 namespace conftrack::cli {
 
@@ -64,9 +65,10 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
       double number = 0.0;
       auto [end, ec] =
           std::from_chars(value.data(), value.data() + value.size(), number);
-      bool literal = (ec == std::errc() && end == value.data() + value.size()) ||
-                     value == "true" || value == "false" ||
-                     (!value.empty() && (value[0] == '[' || value[0] == '"'));
+      bool literal =
+          (ec == std::errc() && end == value.data() + value.size()) ||
+          value == "true" || value == "false" ||
+          (!value.empty() && (value[0] == '[' || value[0] == '"'));
       if (!literal) {
         value = "\"" + value + "\"";
       }

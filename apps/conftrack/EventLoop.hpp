@@ -5,15 +5,15 @@
 /// seed, simulation switches), the --threads option, and a parallel loop
 /// over events with progress.
 
+#include "conftrack/simulation/EventSimulation.hpp"
+
+#include <CLI/CLI.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
-
-#include "conftrack/simulation/EventSimulation.hpp"
 
 namespace conftrack::cli {
 

@@ -1,10 +1,9 @@
 #include "Progress.hpp"
 
-#include <unistd.h>
+#include "conftrack/core/Log.hpp"
 
 #include <cstdio>
-
-#include "conftrack/core/Log.hpp"
+#include <unistd.h>
 
 namespace conftrack::cli {
 

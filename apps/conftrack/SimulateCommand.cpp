@@ -1,11 +1,4 @@
 
-#include <cstdio>
-#include <filesystem>
-#include <memory>
-
-#include "Commands.hpp"
-#include "EventLoop.hpp"
-#include "Progress.hpp"
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Log.hpp"
@@ -13,6 +6,14 @@
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "Commands.hpp"
+#include "EventLoop.hpp"
+#include "Progress.hpp"
 
 namespace conftrack::cli {
 
@@ -55,9 +56,8 @@ void runSimulate(const SimulateOptions& opt) {
   std::filesystem::create_directories(opt.output);
   std::vector<EventCounts> counts(opt.events);
   CONFTRACK_INFO("simulating " << opt.events << " events of "
-                               << sim.description() << " in "
-                               << detector.name() << ", seed "
-                               << opt.sample.seed);
+                               << sim.description() << " in " << detector.name()
+                               << ", seed " << opt.sample.seed);
   forEachEvent(opt.events, opt.threads, "simulate", [&](std::size_t i) {
     Event event = sim.simulate(opt.firstEvent + i);
     writeEvent(opt.output, event, &detector, {opt.gzip});
@@ -79,10 +79,11 @@ void runSimulate(const SimulateOptions& opt) {
       total.backgroundReconstructable += counts[i].backgroundReconstructable;
     }
     double n = static_cast<double>(std::max<std::size_t>(1, counts.size()));
-    std::printf("%8s %10.1f %16.1f %16.1f   (reconstructable: stable, "
-                "charged, pT > 0.1 GeV, |cos theta| < 0.99, >= 4 layers)\n",
-                "mean", total.hits / n, total.signalReconstructable / n,
-                total.backgroundReconstructable / n);
+    std::printf(
+        "%8s %10.1f %16.1f %16.1f   (reconstructable: stable, "
+        "charged, pT > 0.1 GeV, |cos theta| < 0.99, >= 4 layers)\n",
+        "mean", total.hits / n, total.signalReconstructable / n,
+        total.backgroundReconstructable / n);
   }
 }
 
@@ -92,15 +93,13 @@ void addSimulateCommand(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand(
       "simulate", "Generate and simulate events, write TrackML-format files");
-  cmd->add_option("--detector", opt->detector,
-                  "Detector name or TOML file")
+  cmd->add_option("--detector", opt->detector, "Detector name or TOML file")
       ->capture_default_str();
   addSampleOptions(*cmd, opt->sample);
   cmd->add_option("-n,--events", opt->events, "Number of events")
       ->capture_default_str()
       ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}));
-  cmd->add_option("--first-event", opt->firstEvent,
-                  "Number of the first event")
+  cmd->add_option("--first-event", opt->firstEvent, "Number of the first event")
       ->capture_default_str();
   cmd->add_option("-o,--output", opt->output, "Output folder")
       ->capture_default_str();

@@ -1,11 +1,11 @@
 #include "conftrack/simulation/EventSimulation.hpp"
 
-#include <algorithm>
-
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/Random.hpp"
 #include "conftrack/simulation/generators/EventComposition.hpp"
 #include "conftrack/simulation/generators/GeneratorFactory.hpp"
+
+#include <algorithm>
 
 namespace conftrack {
 
@@ -68,8 +68,9 @@ Event EventSimulation::simulate(std::uint64_t eventNumber) const {
     background = m_overlay->generate(bgRng, eventNumber);
   }
   std::vector<Particle> all = composeEvent(std::move(signal), background);
-  auto firstBackground = std::partition_point(
-      all.begin(), all.end(), [](const Particle& p) { return !p.isBackground(); });
+  auto firstBackground =
+      std::partition_point(all.begin(), all.end(),
+                           [](const Particle& p) { return !p.isBackground(); });
   std::vector<Particle> signalPart(all.begin(), firstBackground);
   std::vector<Particle> backgroundPart(firstBackground, all.end());
   RandomEngine simRng =

@@ -4,10 +4,10 @@
 /// A reconstructed track: its hits, the finder's estimates and, once
 /// fitted, LCIO perigee parameters with covariance (physics.md 3).
 
+#include "conftrack/core/Types.hpp"
+
 #include <cstdint>
 #include <vector>
-
-#include "conftrack/core/Types.hpp"
 
 namespace conftrack {
 
@@ -18,10 +18,10 @@ using TrackCovariance = Eigen::Matrix<double, 5, 5>;
 
 /// Indices into TrackVector.
 enum TrackParameter : int {
-  eD0 = 0,      ///< signed transverse impact parameter [mm]
-  ePhi0 = 1,    ///< azimuth of the momentum at the PCA [rad]
-  eOmega = 2,   ///< signed curvature q/rho [1/mm]
-  eZ0 = 3,      ///< z at the PCA [mm]
+  eD0 = 0,         ///< signed transverse impact parameter [mm]
+  ePhi0 = 1,       ///< azimuth of the momentum at the PCA [rad]
+  eOmega = 2,      ///< signed curvature q/rho [1/mm]
+  eZ0 = 3,         ///< z at the PCA [mm]
   eTanLambda = 4,  ///< pz / pT
 };
 

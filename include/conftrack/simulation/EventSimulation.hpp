@@ -5,17 +5,17 @@
 /// overlay, fast simulation and the readout time window. Each event is a
 /// pure function of (seed, event number), whatever thread runs it.
 
-#include <cstdint>
-#include <memory>
-#include <string>
-#include <vector>
-
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/simulation/Simulator.hpp"
 #include "conftrack/simulation/generators/EventGenerator.hpp"
 #include "conftrack/simulation/generators/GammaGammaOverlay.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace conftrack {
 

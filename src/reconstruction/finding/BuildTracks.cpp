@@ -163,8 +163,7 @@ class SeedAutomaton {
     }
     m_childBegin[c] = static_cast<std::uint32_t>(m_childPool.size());
     m_childCount[c] = static_cast<std::uint32_t>(m_children.size());
-    m_childPool.insert(m_childPool.end(), m_children.begin(),
-                       m_children.end());
+    m_childPool.insert(m_childPool.end(), m_children.begin(), m_children.end());
   }
 
   void seedCells(ConfIndex seed) {
@@ -261,15 +260,15 @@ class SeedAutomaton {
     // of their start hit is a topological order.
     m_order.resize(n);
     std::iota(m_order.begin(), m_order.end(), 0);
-    std::sort(m_order.begin(), m_order.end(), [&](std::uint32_t a,
-                                                  std::uint32_t b) {
-      ConfIndex sa = cell(a).start;
-      ConfIndex sb = cell(b).start;
-      if (sa != sb) {
-        return m_insideOut ? sa < sb : sa > sb;
-      }
-      return a < b;
-    });
+    std::sort(m_order.begin(), m_order.end(),
+              [&](std::uint32_t a, std::uint32_t b) {
+                ConfIndex sa = cell(a).start;
+                ConfIndex sb = cell(b).start;
+                if (sa != sb) {
+                  return m_insideOut ? sa < sb : sa > sb;
+                }
+                return a < b;
+              });
     m_weight.assign(n, 0);
     for (std::uint32_t c : m_order) {
       std::uint32_t w = 0;
@@ -487,10 +486,11 @@ void buildTracks(FinderState& state, const FindingStep& step,
     std::sort(candidates.begin(), candidates.end(), betterCandidate);
     for (TrackCandidate& c : candidates) {
       c.step = stepIndex;
-      std::vector<ConfIndex> hits = c.hits;
       if (state.clones.offer(state.tracks, std::move(c),
                              state.config.cloneSharedHits)) {
-        for (ConfIndex h : hits) {
+        auto t = static_cast<std::uint32_t>(state.tracks.size() - 1);
+        completeTrack(state, step, pool, stats, t);
+        for (ConfIndex h : state.tracks[t].hits) {
           onNewTrack[h] = 1;
         }
       }

@@ -52,8 +52,8 @@ struct Prediction {
 /// A compatible hit on a predicted layer crossing.
 struct Candidate {
   ConfIndex hit;
-  double s;      ///< predicted arc length of the crossing
-  double chi2;   ///< chi2_uv + chi2_sz increase
+  double s;     ///< predicted arc length of the crossing
+  double chi2;  ///< chi2_uv + chi2_sz increase
   double dUv;
 };
 
@@ -68,6 +68,8 @@ struct Chain {
 /// chi2 charged for a predicted layer crossing without a compatible hit in
 /// the look-ahead (a missing hit costs about a 4 sigma deviation).
 constexpr double kMissingHitChi2 = 16.0;
+/// Largest chi2_uv + chi2_sz increase of a hit filled into a hole.
+constexpr double kMaxHoleChi2 = 30.0;
 /// At most this many hits of one layer are followed in the look-ahead.
 constexpr std::size_t kLookaheadBranches = 3;
 
@@ -75,16 +77,22 @@ class Extender {
  public:
   Extender(FinderState& state, const FindingStep& step, const HitPool& pool,
            StepStats& stats)
-      : m_state(state), m_hits(state.hits), m_step(step), m_pool(pool),
+      : m_state(state),
+        m_hits(state.hits),
+        m_step(step),
+        m_pool(pool),
         m_stats(stats) {}
 
-  /// Extends track t. `catchAll` selects the loose low-pT pass.
-  void extend(std::uint32_t t, bool catchAll) {
+  /// Extends track t. `catchAll` selects the loose low-pT pass;
+  /// `inward` follows the track back towards the IP from its first hit
+  /// (per-layer mode only).
+  void extend(std::uint32_t t, bool catchAll, bool inward = false) {
     TrackCandidate& track = m_state.tracks[t];
     if (track.hits.size() < 3) {
       return;
     }
-    m_catchAll = catchAll;
+    m_catchAll = catchAll && !inward;
+    m_inward = inward;
     m_quadratic = track.uv.quadratic;
     Chain chain;
     chain.hits = track.hits;
@@ -105,8 +113,7 @@ class Extender {
         for (std::size_t k = 0; k < n; ++k) {
           double score =
               cands[k].chi2 +
-              lookahead(chain, cands[k].hit,
-                        m_state.config.extensionLookahead);
+              lookahead(chain, cands[k].hit, m_state.config.extensionLookahead);
           if (score < best) {
             best = score;
             choice = k;
@@ -114,13 +121,115 @@ class Extender {
         }
       }
       ConfIndex h = cands[choice].hit;
-      chain.hits.push_back(h);
+      if (m_inward) {
+        chain.hits.insert(chain.hits.begin(), h);
+      } else {
+        chain.hits.push_back(h);
+      }
       m_state.used[h] = 1;  // extensions claim hits immediately
       m_state.clones.addHit(h, t);
       ++m_stats.extendedHits;
       added = true;
       if (!refit(chain, &chain.uv)) {
-        chain.hits.pop_back();
+        if (m_inward) {
+          chain.hits.erase(chain.hits.begin());
+        } else {
+          chain.hits.pop_back();
+        }
+        break;
+      }
+    }
+    if (added) {
+      track.hits = chain.hits;
+      track.uv = chain.uv;
+      track.sz = chain.sz;
+      track.pt = chain.uv.pt(m_state.bzForPt);
+    }
+  }
+
+  /// Hole filling: adds unused hits on layers that the track crosses
+  /// between its first and last hit but has no hit on (a cell that skipped
+  /// a layer), best chi2 increase first.
+  void fill(std::uint32_t t) {
+    TrackCandidate& track = m_state.tracks[t];
+    if (track.hits.size() < 3) {
+      return;
+    }
+    m_catchAll = false;
+    m_inward = false;
+    m_quadratic = track.uv.quadratic;
+    Chain chain;
+    chain.hits = track.hits;
+    if (!refit(chain, &track.uv)) {
+      return;
+    }
+    bool added = false;
+    std::vector<double> hitS;
+    while (true) {
+      // Arc lengths of the hits, unwrapped along the track.
+      hitS.assign(chain.hits.size(), 0.0);
+      for (std::size_t k = 1; k < chain.hits.size(); ++k) {
+        ConfIndex h = chain.hits[k];
+        hitS[k] = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], hitS[k - 1]);
+      }
+      double bestChi2 = std::numeric_limits<double>::infinity();
+      ConfIndex best = kInvalidIndex;
+      double bestS = 0.0;
+      for (std::uint32_t layer : m_pool.layers()) {
+        bool present = false;
+        for (ConfIndex h : chain.hits) {
+          present = present || m_hits.layer[h] == layer;
+        }
+        if (present) {
+          continue;
+        }
+        predict(layer, chain.arc, chain.sz, 0.0);
+        for (const Prediction& p : m_predictions) {
+          if (!(p.s < hitS.back())) {
+            continue;
+          }
+          m_window.clear();
+          m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
+                             m_window);
+          for (ConfIndex h : m_window) {
+            if (m_state.used[h] != 0 || onSensorOf(chain.hits, h)) {
+              continue;
+            }
+            double s = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
+            if (!(s > 0.0 && s < hitS.back())) {
+              continue;
+            }
+            double dUv = chain.uv.deltaChi2(m_hits, h);
+            double dSz = chain.sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h],
+                                            m_hits.varRxy[h]);
+            if (increase(chain.uv.chi2, chain.uv.ndf, dUv) > m_step.chi2Cut ||
+                increase(chain.sz.chi2, chain.sz.ndf, dSz) > m_step.chi2Cut) {
+              continue;
+            }
+            double chi2 = dUv + dSz;
+            // A hit in a hole between measured hits is well predicted: an
+            // absolute bound keeps neighbours in dense jets out.
+            if (chi2 > kMaxHoleChi2) {
+              continue;
+            }
+            if (chi2 < bestChi2 || (chi2 == bestChi2 && h < best)) {
+              bestChi2 = chi2;
+              best = h;
+              bestS = s;
+            }
+          }
+        }
+      }
+      if (best == kInvalidIndex) {
+        break;
+      }
+      auto pos = std::upper_bound(hitS.begin(), hitS.end(), bestS);
+      chain.hits.insert(chain.hits.begin() + (pos - hitS.begin()), best);
+      m_state.used[best] = 1;
+      m_state.clones.addHit(best, t);
+      ++m_stats.extendedHits;
+      added = true;
+      if (!refit(chain, &chain.uv)) {
         break;
       }
     }
@@ -139,8 +248,7 @@ class Extender {
   }
 
   bool refit(Chain& c, const ConformalFitResult* frame) const {
-    ConformalFitResult uv =
-        fitConformal(m_hits, c.hits, m_quadratic, frame);
+    ConformalFitResult uv = fitConformal(m_hits, c.hits, m_quadratic, frame);
     if (!uv.valid) {
       return false;
     }
@@ -158,7 +266,11 @@ class Extender {
   /// Best total chi2 increase of the next `depth` layers after adding h.
   double lookahead(const Chain& chain, ConfIndex h, int depth) {
     Chain next = chain;
-    next.hits.push_back(h);
+    if (m_inward) {
+      next.hits.insert(next.hits.begin(), h);
+    } else {
+      next.hits.push_back(h);
+    }
     if (!refit(next, &chain.uv)) {
       return kMissingHitChi2 * depth;
     }
@@ -173,8 +285,8 @@ class Extender {
     double best = std::numeric_limits<double>::infinity();
     std::size_t n = std::min(cands.size(), kLookaheadBranches);
     for (std::size_t k = 0; k < n; ++k) {
-      best = std::min(best, cands[k].chi2 +
-                                lookahead(next, cands[k].hit, depth - 1));
+      best = std::min(best,
+                      cands[k].chi2 + lookahead(next, cands[k].hit, depth - 1));
     }
     return best;
   }
@@ -194,29 +306,37 @@ class Extender {
   bool collect(const Chain& chain, std::vector<Candidate>& out,
                ConfIndex excluded = kInvalidIndex) {
     out.clear();
-    const ConfIndex last = chain.hits.back();
-    const ConfIndex prev = chain.hits[chain.hits.size() - 2];
+    // The end of the chain being extended, and its neighbour.
+    const std::size_t n = chain.hits.size();
+    const ConfIndex last = m_inward ? chain.hits[0] : chain.hits[n - 1];
+    const ConfIndex prev = m_inward ? chain.hits[1] : chain.hits[n - 2];
     const ConformalFitResult& uv = chain.uv;
     const SzFitResult& sz = chain.sz;
-    const double factor = m_catchAll ? 3.0 : 1.0;
-    // Track direction at the last hit from the fitted curve (more precise
-    // than the chord of the last two hits).
+    // Inwards the chord to a 2 mm-distant double-layer sensor is as noisy
+    // as the cell that failed in the first place: use the loose cuts.
+    const double factor = (m_catchAll || m_inward) ? 3.0 : 1.0;
+    // Track direction at that hit from the fitted curve (more precise than
+    // the chord of the last two hits), reversed when going inwards.
     double xl = uv.cosA * m_hits.u[last] + uv.sinA * m_hits.v[last];
     double slope = uv.params(1) + 2.0 * uv.params(2) * xl;
-    double norm = std::hypot(1.0, slope);
+    double norm = (m_inward ? -1.0 : 1.0) * std::hypot(1.0, slope);
     double tu = (uv.cosA - uv.sinA * slope) / norm;
     double tv = (uv.sinA + uv.cosA * slope) / norm;
     double rzDz = m_hits.z[last] - m_hits.z[prev];
     double rzDr = m_hits.radius[last] - m_hits.radius[prev];
     double rzNorm = std::hypot(rzDz, rzDr);
-    const double sLast = sz.lastS;
+    // Arc length of the end being extended (0 for the first hit).
+    const double sLast = m_inward ? 0.0 : sz.lastS;
     bool predicted = false;
+    // Arc length of the nearest layer with compatible hits so far, as a
+    // distance from the end being extended.
     double firstS = std::numeric_limits<double>::infinity();
     for (std::uint32_t layer : m_pool.layers()) {
       predict(layer, chain.arc, sz, sLast);
       predicted = predicted || !m_predictions.empty();
       for (const Prediction& p : m_predictions) {
-        if (p.s > firstS + 1e-6) {
+        double dist = std::abs(p.s - sLast);
+        if (dist > firstS + 1e-6) {
           continue;  // a later layer than one that already has hits
         }
         m_window.clear();
@@ -230,7 +350,11 @@ class Extender {
           if (m_catchAll && (m_hits.z[h] > 0) != (m_hits.z[last] > 0)) {
             continue;
           }
-          if (!m_catchAll && m_hits.radius[h] <= m_hits.radius[last]) {
+          if (!m_catchAll && !m_inward &&
+              m_hits.radius[h] <= m_hits.radius[last]) {
+            continue;
+          }
+          if (m_inward && m_hits.radius[h] >= m_hits.radius[last]) {
             continue;
           }
           double du = m_hits.u[h] - m_hits.u[last];
@@ -250,17 +374,17 @@ class Extender {
           }
           double dUv = uv.deltaChi2(m_hits, h);
           double s = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
-          if (!(s > sLast)) {
+          if (m_inward ? !(s < sLast) : !(s > sLast)) {
             continue;
           }
-          double dSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h],
-                                    m_hits.varRxy[h]);
+          double dSz =
+              sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h]);
           if (increase(uv.chi2, uv.ndf, dUv) > m_step.chi2Cut ||
               increase(sz.chi2, sz.ndf, dSz) > m_step.chi2Cut) {
             continue;
           }
-          if (p.s < firstS - 1e-6) {
-            firstS = p.s;
+          if (dist < firstS - 1e-6) {
+            firstS = dist;
             out.clear();
           }
           out.push_back({h, p.s, dUv + dSz, dUv});
@@ -275,12 +399,18 @@ class Extender {
   }
 
   /// Crossings of `layer` after arc length sLast (within one turn).
-  void predict(std::uint32_t layer, const ArcFrame& arc,
-               const SzFitResult& sz, double sLast) {
+  void predict(std::uint32_t layer, const ArcFrame& arc, const SzFitResult& sz,
+               double sLast) {
     m_predictions.clear();
     const SensitiveLayer& l = m_state.detector.layers()[layer];
     const double turn = 2.0 * std::numbers::pi * arc.radius;
     auto after = [&](double s) {
+      if (m_inward) {
+        while (s >= sLast - 1e-6) {
+          s -= turn;
+        }
+        return s;
+      }
       while (s <= sLast + 1e-6) {
         s += turn;
       }
@@ -304,7 +434,7 @@ class Extender {
         double px = a * ex - sign * h * ey;
         double py = a * ey + sign * h * ex;
         double s = after(arc.arcLength(px, py, sLast));
-        if (!m_catchAll && s - sLast > 0.5 * turn) {
+        if (!m_catchAll && std::abs(s - sLast) > 0.5 * turn) {
           continue;  // the per-layer pass follows the outgoing branch only
         }
         double z = sz.z0 + sz.tanLambda * s;
@@ -318,7 +448,8 @@ class Extender {
         return;
       }
       double s = (l.z() - sz.z0) / sz.tanLambda;
-      if (!(s > sLast) || s - sLast > turn) {
+      bool ahead = m_inward ? s < sLast : s > sLast;
+      if (!ahead || std::abs(s - sLast) > turn) {
         return;
       }
       Vector2 p = arc.pointAt(s);
@@ -336,12 +467,22 @@ class Extender {
   const HitPool& m_pool;
   StepStats& m_stats;
   bool m_catchAll = false;
+  bool m_inward = false;
   bool m_quadratic = true;
   std::vector<Prediction> m_predictions;
   std::vector<ConfIndex> m_window;
 };
 
 }  // namespace
+
+void completeTrack(FinderState& state, const FindingStep& step,
+                   const HitPool& pool, StepStats& stats, std::uint32_t t) {
+  Extender extender(state, step, pool, stats);
+  if (step.direction == SearchDirection::eInsideOut) {
+    extender.extend(t, false, true);
+  }
+  extender.fill(t);
+}
 
 void extendTracks(FinderState& state, const FindingStep& step,
                   const HitPool& pool, StepStats& stats) {

@@ -206,9 +206,9 @@ bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
 
 }  // namespace
 
-void HitPool::cone(double u, double v, double du, double dv,
-                   double halfAngle, double discU, double discV,
-                   double discRadius, std::vector<ConfIndex>& out) const {
+void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
+                   double discU, double discV, double discRadius,
+                   std::vector<ConfIndex>& out) const {
   out.clear();
   // The cone cut off by the disc: a triangle reaching past the disc's far
   // edge (length / cos keeps the triangle around the circular cap).
@@ -248,8 +248,8 @@ void HitPool::cone(double u, double v, double du, double dv,
     }
     std::size_t before = out.size();
     auto [begin, end] = m_layerRange[k];
-    collectWindow(m_layerPhis, m_layerHits, begin, end, centre,
-                  half + kMargin, out);
+    collectWindow(m_layerPhis, m_layerHits, begin, end, centre, half + kMargin,
+                  out);
     // Exact cuts: inside the disc and the cone.
     std::size_t kept = before;
     for (std::size_t i = before; i < out.size(); ++i) {

@@ -71,6 +71,17 @@ void buildTracks(FinderState& state, const FindingStep& step,
                  std::uint16_t stepIndex, const HitPool& pool,
                  StepStats& stats);
 
+/// Completion of a newly built track (a conftrack addition; upstream has
+/// neither part): for inside-out steps, follows its fitted helix from the
+/// first hit back towards the IP through the step's layers and adds
+/// compatible hits (the per-layer extension run backwards); then fills
+/// holes, layers crossed between its hits without a hit on the track. Both
+/// recover hits lost when a short cell (e.g. between the two sensors of a
+/// double layer, 2 mm apart) failed an angle cut and the automaton skipped
+/// the layer.
+void completeTrack(FinderState& state, const FindingStep& step,
+                   const HitPool& pool, StepStats& stats, std::uint32_t t);
+
 /// ExtendTracks: per-layer extension of tracks above the step's pT cut,
 /// then the catch-all extension of all tracks (algorithm.md 10).
 void extendTracks(FinderState& state, const FindingStep& step,
