@@ -32,26 +32,24 @@ EventMatching matchTracks(const Event& event,
     }
     ++out.particles[p].nHits;
     const DetectorId& id = event.hits[h].detId;
-    layers[p].push_back((static_cast<std::uint64_t>(id.subdetector) << 32) |
-                        (static_cast<std::uint64_t>(
-                             static_cast<std::uint8_t>(id.side))
-                         << 16) |
-                        id.layer);
+    layers[p].push_back(
+        (static_cast<std::uint64_t>(id.subdetector) << 32) |
+        (static_cast<std::uint64_t>(static_cast<std::uint8_t>(id.side)) << 16) |
+        id.layer);
   }
   // Charged stable particles above the pT cut, for the proximity.
   std::vector<ParticleIndex> visible;
   for (ParticleIndex p = 0; p < nParticles; ++p) {
     const Particle& part = event.particles[p];
-    if (part.isStable() && part.charge != 0.0 &&
-        part.pt() >= selection.minPt) {
+    if (part.isStable() && part.charge != 0.0 && part.pt() >= selection.minPt) {
       visible.push_back(p);
     }
   }
   for (ParticleIndex p = 0; p < nParticles; ++p) {
     auto& l = layers[p];
     std::sort(l.begin(), l.end());
-    out.particles[p].nLayers = static_cast<std::uint32_t>(
-        std::unique(l.begin(), l.end()) - l.begin());
+    out.particles[p].nLayers =
+        static_cast<std::uint32_t>(std::unique(l.begin(), l.end()) - l.begin());
     const Particle& part = event.particles[p];
     double pt = part.pt();
     double p3 = part.momentum.norm();

@@ -5,12 +5,12 @@
 /// definitions (evaluation.md A1), with the ACTS double matching as an
 /// option (evaluation.md A2). Needs truth; never used by reconstruction.
 
+#include "conftrack/core/Event.hpp"
+#include "conftrack/core/Units.hpp"
+
 #include <cstdint>
 #include <span>
 #include <vector>
-
-#include "conftrack/core/Event.hpp"
-#include "conftrack/core/Units.hpp"
 
 namespace conftrack {
 

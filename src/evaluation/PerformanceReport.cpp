@@ -1,0 +1,590 @@
+#include "conftrack/evaluation/PerformanceReport.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+#include <sys/wait.h>
+
+namespace conftrack {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+const char* const kInstallHint =
+    "apt-get install python3-matplotlib python3-numpy";
+
+std::string versionOf(const RunMetadata& m) {
+#ifdef CONFTRACK_VERSION
+  return m.version.empty() ? std::string(CONFTRACK_VERSION) : m.version;
+#else
+  return m.version;
+#endif
+}
+
+std::size_t eventsOf(const RunMetadata& m, const PerformanceSummary& s) {
+  return m.events > 0 ? m.events : static_cast<std::size_t>(s.data.events);
+}
+
+/// A number, or null for NaN and infinities (JSON has neither).
+Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+
+Json ratioJson(const Ratio& r) {
+  Json j;
+  j["passed"] = r.passed;
+  j["total"] = r.total;
+  j["value"] = number(r.value());
+  j["uncertainty"] = number(r.uncertainty());
+  return j;
+}
+
+Json efficiencyJson(const EfficiencyRatios& e) {
+  Json j;
+  j["all"] = number(e.all.value());
+  j["pt_above_1GeV"] = number(e.ptAbove1GeV.value());
+  j["pt_0p1_to_1GeV"] = number(e.ptBelow1GeV.value());
+  return j;
+}
+
+Json fitJson(const GaussianFit& f) {
+  Json j;
+  j["mean"] = number(f.mean);
+  j["width"] = number(f.sigma);
+  j["mean_error"] = number(f.meanError);
+  j["width_error"] = number(f.sigmaError);
+  j["entries"] = f.entries;
+  return j;
+}
+
+std::ofstream openForWriting(const fs::path& file) {
+  std::ofstream out(file);
+  if (!out) {
+    throw std::runtime_error(file.string() + ": cannot open for writing");
+  }
+  out << std::setprecision(10);
+  return out;
+}
+
+void finish(std::ofstream& out, const fs::path& file) {
+  out.flush();
+  if (!out) {
+    throw std::runtime_error(file.string() + ": write failed");
+  }
+}
+
+/// "97.12 +- 0.15 %  (passed/total)" or "n/a".
+std::string percent(const Ratio& r, int digits = 2) {
+  if (r.total == 0) {
+    return "n/a";
+  }
+  char buffer[96];
+  std::snprintf(buffer, sizeof(buffer), "%.*f +- %.*f %%  (%llu/%llu)", digits,
+                100.0 * r.value(), digits, 100.0 * r.uncertainty(),
+                static_cast<unsigned long long>(r.passed),
+                static_cast<unsigned long long>(r.total));
+  return buffer;
+}
+
+std::string fixed(double x, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, x);
+  return buffer;
+}
+
+std::string htmlEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+/// Single-quotes a word for /bin/sh.
+std::string shellQuote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') {
+      out += "'\\''";
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
+int runShell(const std::string& command) {
+  const int status = std::system(command.c_str());
+  if (status == -1) {
+    return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Interpreters to try, in order.
+std::vector<std::string> interpreterCandidates() {
+  std::vector<std::string> candidates;
+  if (const char* py = std::getenv("CONFTRACK_PYTHON"); py != nullptr && *py) {
+    candidates.emplace_back(py);
+  }
+  candidates.emplace_back("python3");
+  candidates.emplace_back("/usr/bin/python3");
+  return candidates;
+}
+
+/// Rows of the human-readable table: (label, value).
+std::vector<std::pair<std::string, std::string>> tableRows(
+    const RunMetadata& m, const PerformanceSummary& s) {
+  const PerformanceData& d = s.data;
+  std::vector<std::pair<std::string, std::string>> rows;
+  rows.emplace_back(
+      "sample",
+      m.sample + (m.overlayBx > 0
+                      ? " + " + std::to_string(m.overlayBx) + " BX overlay"
+                      : ""));
+  rows.emplace_back("detector",
+                    m.detector + "  (Bz = " + fixed(d.bz, 2) + " T)");
+  rows.emplace_back("events", std::to_string(d.events) + "  (seed " +
+                                  std::to_string(m.seed) + ", " +
+                                  std::to_string(m.threads) + " threads)");
+  rows.emplace_back("reconstructable particles",
+                    std::to_string(d.reconstructableParticles));
+  rows.emplace_back("reconstructed tracks",
+                    std::to_string(d.tracks) + "  (fitted " +
+                        std::to_string(d.fittedTracks) + ")");
+  rows.emplace_back("efficiency", percent(d.efficiency.all));
+  rows.emplace_back("  pT > 1 GeV", percent(d.efficiency.ptAbove1GeV));
+  rows.emplace_back("  0.1 <= pT <= 1 GeV", percent(d.efficiency.ptBelow1GeV));
+  if (d.backgroundEfficiency.all.total > 0) {
+    rows.emplace_back("  signal", percent(d.signalEfficiency.all));
+    rows.emplace_back("  background", percent(d.backgroundEfficiency.all));
+  }
+  rows.emplace_back("  CLICdp cuts (vs theta)",
+                    percent(d.efficiencyThetaPlotCuts));
+  rows.emplace_back("  CLICdp cuts (vs pT)", percent(d.efficiencyPtPlotCuts));
+  rows.emplace_back("fake rate", percent(d.fakes, 3));
+  rows.emplace_back("duplicate rate (CLICdp)", percent(d.duplicates, 3));
+  rows.emplace_back("ACTS efficiency / fake / dup.",
+                    fixed(100.0 * d.actsEfficiency.value(), 2) + " / " +
+                        fixed(100.0 * d.actsFakes.value(), 3) + " / " +
+                        fixed(100.0 * d.actsDuplicates.value(), 3) + " %");
+  rows.emplace_back("time per event [ms]",
+                    "simulation " + fixed(s.simulationMsPerEvent(), 1) +
+                        ", finding " + fixed(s.findingMsPerEvent(), 1) +
+                        ", fitting " + fixed(s.fittingMsPerEvent(), 1));
+  const double finding = d.findingMs > 0.0 ? d.findingMs : 1.0;
+  for (const StepStats& step : d.steps) {
+    rows.emplace_back(
+        "  step " + step.name,
+        fixed(d.events > 0 ? step.milliseconds / d.events : 0.0, 2) + " ms  (" +
+            fixed(100.0 * step.milliseconds / finding, 1) + " % of finding)");
+  }
+  rows.emplace_back("peak RSS", fixed(s.peakRssMb, 1) + " MiB");
+  for (const PullResult& p : s.pulls) {
+    rows.emplace_back("pull " + std::string(pullName(p.quantity)),
+                      "mean " + fixed(p.fit.mean, 3) + ", width " +
+                          fixed(p.fit.sigma, 3) + "  (" +
+                          std::to_string(p.fit.entries) + " tracks)");
+  }
+  return rows;
+}
+
+}  // namespace
+
+Json makeSummaryJson(const RunMetadata& m, const PerformanceSummary& s) {
+  const PerformanceData& d = s.data;
+  const PerformanceConfig& c = s.config;
+  Json j;
+  j["version"] = versionOf(m);
+  j["detector"] = m.detector;
+  j["sample"] = m.sample;
+  j["overlay_bx"] = m.overlayBx;
+  j["events"] = eventsOf(m, s);
+  j["seed"] = m.seed;
+  j["threads"] = m.threads;
+  j["bz_T"] = number(d.bz / units::T);
+  j["events_evaluated"] = d.events;
+  j["reconstructable_particles"] = d.reconstructableParticles;
+  j["reconstructed_tracks"] = d.tracks;
+  j["fitted_tracks"] = d.fittedTracks;
+  j["efficiency"] = efficiencyJson(d.efficiency);
+  j["fake_rate"] = number(d.fakes.value());
+  j["duplicate_rate"] = number(d.duplicates.value());
+
+  Json time;
+  time["simulation"] = s.simulationMsPerEvent();
+  time["finding"] = s.findingMsPerEvent();
+  time["fitting"] = s.fittingMsPerEvent();
+  time["reconstruction"] = s.reconstructionMsPerEvent();
+  Json steps = Json::object();
+  for (const StepStats& step : d.steps) {
+    steps[step.name] =
+        d.events > 0 ? step.milliseconds / double(d.events) : 0.0;
+  }
+  time["steps"] = steps;
+  j["time_ms_per_event"] = time;
+  j["peak_rss_mb"] = number(s.peakRssMb);
+
+  if (!s.pulls.empty()) {
+    Json pulls;
+    for (const PullResult& p : s.pulls) {
+      pulls[std::string(pullName(p.quantity))] = fitJson(p.fit);
+    }
+    j["pulls"] = pulls;
+    Json resolutions = Json::array();
+    for (const ResolutionPoint& p : s.resolutions) {
+      const double scale = residualScale(p.quantity);
+      Json r;
+      r["quantity"] = residualName(p.quantity);
+      r["unit"] = residualUnit(p.quantity);
+      r["theta_deg"] = number(p.theta / units::degree);
+      r["pt_GeV"] = number(p.ptMean / units::GeV);
+      r["entries"] = p.fit.entries;
+      r["sigma"] = number(p.fit.sigma * scale);
+      r["sigma_error"] = number(p.fit.sigmaError * scale);
+      r["mean"] = number(p.fit.mean * scale);
+      resolutions.push_back(r);
+    }
+    j["resolutions"] = resolutions;
+  }
+
+  // Extras.
+  Json def;
+  def["matching"] = c.matching.doubleMatching ? "double" : "CLICdp one-way";
+  def["purity"] = c.matching.purity;
+  def["min_track_hits"] = c.minTrackHits;
+  def["reconstructable"] =
+      "stable, charged, pT >= " + fixed(c.particles.minPt / units::GeV, 2) +
+      " GeV, |cos theta| < " + fixed(c.particles.maxAbsCosTheta, 3) +
+      ", >= " + std::to_string(c.particles.minLayers) + " distinct layers";
+  Json cuts;
+  cuts["min_pt_GeV"] = c.plotSelection.minPt / units::GeV;
+  cuts["theta_range_deg"] = {c.plotSelection.minTheta / units::degree,
+                             c.plotSelection.maxTheta / units::degree};
+  cuts["max_vertex_radius_mm"] = c.plotSelection.maxVertexRadius / units::mm;
+  cuts["min_proximity"] = c.plotSelection.minProximity;
+  def["plot_cuts"] = cuts;
+  def["single_particle"] = c.singleParticle;
+  j["definitions"] = def;
+  j["efficiency_signal"] = efficiencyJson(d.signalEfficiency);
+  j["efficiency_background"] = efficiencyJson(d.backgroundEfficiency);
+  Json plotCuts;
+  plotCuts["theta_plot"] = number(d.efficiencyThetaPlotCuts.value());
+  plotCuts["pt_plot"] = number(d.efficiencyPtPlotCuts.value());
+  plotCuts["all_cuts"] = number(d.efficiencyAllPlotCuts.value());
+  j["efficiency_plot_cuts"] = plotCuts;
+  j["fake_rate_selected"] = number(d.selectedFakes.value());
+  j["duplicate_rate_selected"] = number(d.selectedDuplicates.value());
+  Json acts;
+  acts["matching_ratio"] = c.actsMatchingRatio;
+  acts["efficiency"] = number(d.actsEfficiency.value());
+  acts["fake_rate"] = number(d.actsFakes.value());
+  acts["duplicate_rate"] = number(d.actsDuplicates.value());
+  j["acts"] = acts;
+
+  Json counts;
+  counts["efficiency_all"] = ratioJson(d.efficiency.all);
+  counts["efficiency_pt_above_1GeV"] = ratioJson(d.efficiency.ptAbove1GeV);
+  counts["efficiency_pt_0p1_to_1GeV"] = ratioJson(d.efficiency.ptBelow1GeV);
+  counts["efficiency_signal"] = ratioJson(d.signalEfficiency.all);
+  counts["efficiency_signal_pt_above_1GeV"] =
+      ratioJson(d.signalEfficiency.ptAbove1GeV);
+  counts["efficiency_signal_pt_0p1_to_1GeV"] =
+      ratioJson(d.signalEfficiency.ptBelow1GeV);
+  counts["efficiency_background"] = ratioJson(d.backgroundEfficiency.all);
+  counts["efficiency_theta_plot_cuts"] = ratioJson(d.efficiencyThetaPlotCuts);
+  counts["efficiency_pt_plot_cuts"] = ratioJson(d.efficiencyPtPlotCuts);
+  counts["efficiency_all_plot_cuts"] = ratioJson(d.efficiencyAllPlotCuts);
+  counts["fake_rate"] = ratioJson(d.fakes);
+  counts["duplicate_rate"] = ratioJson(d.duplicates);
+  counts["fake_rate_selected"] = ratioJson(d.selectedFakes);
+  counts["duplicate_rate_selected"] = ratioJson(d.selectedDuplicates);
+  counts["acts_efficiency"] = ratioJson(d.actsEfficiency);
+  counts["acts_fake_rate"] = ratioJson(d.actsFakes);
+  counts["acts_duplicate_rate"] = ratioJson(d.actsDuplicates);
+  j["counts"] = counts;
+
+  Json stepList = Json::array();
+  for (const StepStats& step : d.steps) {
+    Json st;
+    st["name"] = step.name;
+    st["ms_per_event"] =
+        d.events > 0 ? step.milliseconds / double(d.events) : 0.0;
+    st["seeds"] = step.seeds;
+    st["cells"] = step.cells;
+    st["paths"] = step.paths;
+    st["candidates"] = step.candidates;
+    st["accepted"] = step.accepted;
+    st["extended_hits"] = step.extendedHits;
+    st["hits_used"] = step.hitsUsed;
+    st["path_overflows"] = step.pathOverflows;
+    st["cell_overflows"] = step.cellOverflows;
+    st["recovered"] = step.recovered;
+    stepList.push_back(st);
+  }
+  j["steps"] = stepList;
+  return j;
+}
+
+void writeSummaryJson(const fs::path& file, const RunMetadata& metadata,
+                      const PerformanceSummary& summary) {
+  std::ofstream out = openForWriting(file);
+  out << makeSummaryJson(metadata, summary).dump(2) << '\n';
+  finish(out, file);
+}
+
+void writeRatioCsv(const fs::path& file, const RatioHistogram& h, double unit) {
+  std::ofstream out = openForWriting(file);
+  out << "low,high,numerator,denominator,value,uncertainty,lower,upper\n";
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    const Ratio r = h.bin(i);
+    const auto [lower, upper] = r.wilsonInterval();
+    out << h.lowerEdge(i) / unit << ',' << h.upperEdge(i) / unit << ','
+        << r.passed << ',' << r.total << ',' << r.value() << ','
+        << r.uncertainty() << ',' << lower << ',' << upper << '\n';
+  }
+  finish(out, file);
+}
+
+void writeCountCsv(const fs::path& file, const CountHistogram& h, double unit) {
+  std::ofstream out = openForWriting(file);
+  out << "low,high,count\n";
+  for (int i = 0; i < h.axis().size(); ++i) {
+    out << h.axis().bin(i).lower() / unit << ','
+        << h.axis().bin(i).upper() / unit << ',' << h.at(i) << '\n';
+  }
+  finish(out, file);
+}
+
+std::vector<std::string> writeHistogramCsvs(const fs::path& dir,
+                                            const PerformanceSummary& s) {
+  const PerformanceData& d = s.data;
+  std::vector<std::string> files;
+  const auto ratio = [&](const std::string& name, const RatioHistogram& h,
+                         double unit) {
+    writeRatioCsv(dir / name, h, unit);
+    files.push_back(name);
+  };
+  ratio("efficiency_vs_pt.csv", d.efficiencyVsPt, units::GeV);
+  ratio("efficiency_vs_pt_all.csv", d.efficiencyVsPtAll, units::GeV);
+  ratio("efficiency_vs_theta.csv", d.efficiencyVsTheta, units::degree);
+  ratio("efficiency_vs_phi.csv", d.efficiencyVsPhi, units::degree);
+  ratio("efficiency_vs_vertex_radius.csv", d.efficiencyVsVertexRadius,
+        units::mm);
+  ratio("efficiency_vs_proximity.csv", d.efficiencyVsProximity, 1.0);
+  ratio("fake_rate_vs_pt.csv", d.fakeRateVsPt, units::GeV);
+  ratio("fake_rate_vs_theta.csv", d.fakeRateVsTheta, units::degree);
+  ratio("duplicate_rate_vs_pt.csv", d.duplicateRateVsPt, units::GeV);
+  ratio("duplicate_rate_vs_theta.csv", d.duplicateRateVsTheta, units::degree);
+
+  writeCountCsv(dir / "time_per_event.csv", d.reconstructionMsPerEvent, 1.0);
+  files.push_back("time_per_event.csv");
+  {
+    const fs::path file = dir / "time_steps.csv";
+    std::ofstream out = openForWriting(file);
+    out << "step,ms_per_event,share_of_finding,seeds,cells,paths,candidates,"
+           "accepted,extended_hits,hits_used,path_overflows,cell_overflows,"
+           "recovered\n";
+    for (const StepStats& st : d.steps) {
+      out << st.name << ','
+          << (d.events > 0 ? st.milliseconds / double(d.events) : 0.0) << ','
+          << (d.findingMs > 0.0 ? st.milliseconds / d.findingMs : 0.0) << ','
+          << st.seeds << ',' << st.cells << ',' << st.paths << ','
+          << st.candidates << ',' << st.accepted << ',' << st.extendedHits
+          << ',' << st.hitsUsed << ',' << st.pathOverflows << ','
+          << st.cellOverflows << ',' << st.recovered << '\n';
+    }
+    finish(out, file);
+    files.push_back("time_steps.csv");
+  }
+
+  if (!s.pulls.empty()) {
+    {
+      const fs::path file = dir / "resolutions.csv";
+      std::ofstream out = openForWriting(file);
+      out << "quantity,unit,theta_deg,pt_low_GeV,pt_high_GeV,pt_mean_GeV,"
+             "entries,core_entries,mean,mean_error,sigma,sigma_error,"
+             "converged\n";
+      for (const ResolutionPoint& p : s.resolutions) {
+        const double k = residualScale(p.quantity);
+        out << residualName(p.quantity) << ',' << residualUnit(p.quantity)
+            << ',' << p.theta / units::degree << ',' << p.ptLow / units::GeV
+            << ',' << p.ptHigh / units::GeV << ',' << p.ptMean / units::GeV
+            << ',' << p.fit.entries << ',' << p.fit.coreEntries << ','
+            << p.fit.mean * k << ',' << p.fit.meanError * k << ','
+            << p.fit.sigma * k << ',' << p.fit.sigmaError * k << ','
+            << (p.fit.converged ? 1 : 0) << '\n';
+      }
+      finish(out, file);
+      files.push_back("resolutions.csv");
+    }
+    {
+      const fs::path file = dir / "pulls.csv";
+      std::ofstream out = openForWriting(file);
+      out << "quantity,entries,mean,mean_error,width,width_error,converged\n";
+      for (const PullResult& p : s.pulls) {
+        out << pullName(p.quantity) << ',' << p.fit.entries << ',' << p.fit.mean
+            << ',' << p.fit.meanError << ',' << p.fit.sigma << ','
+            << p.fit.sigmaError << ',' << (p.fit.converged ? 1 : 0) << '\n';
+      }
+      finish(out, file);
+      files.push_back("pulls.csv");
+    }
+    for (const PullResult& p : s.pulls) {
+      const std::string name =
+          "pull_" + std::string(pullName(p.quantity)) + ".csv";
+      writeCountCsv(dir / name, p.histogram, 1.0);
+      files.push_back(name);
+    }
+  }
+  return files;
+}
+
+void printSummaryTable(std::ostream& out, const RunMetadata& metadata,
+                       const PerformanceSummary& summary) {
+  const auto rows = tableRows(metadata, summary);
+  std::size_t width = 0;
+  for (const auto& [label, value] : rows) {
+    width = std::max(width, label.size());
+  }
+  out << "conftrack " << versionOf(metadata) << " performance summary\n";
+  for (const auto& [label, value] : rows) {
+    out << "  " << std::left << std::setw(static_cast<int>(width) + 2) << label
+        << value << '\n';
+  }
+  out << std::right;
+}
+
+void writeIndexHtml(const fs::path& dir, const RunMetadata& metadata,
+                    const PerformanceSummary& summary,
+                    const std::vector<std::string>& files) {
+  const fs::path file = dir / "index.html";
+  std::ofstream out = openForWriting(file);
+  out << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">"
+         "<title>conftrack performance</title>"
+         "<style>body{font-family:sans-serif;margin:2em}"
+         "td,th{padding:2px 10px;text-align:left}</style></head><body>\n"
+      << "<h1>conftrack performance: " << htmlEscape(metadata.sample)
+      << "</h1>\n<table>\n";
+  for (const auto& [label, value] : tableRows(metadata, summary)) {
+    out << "<tr><th>" << htmlEscape(label) << "</th><td>" << htmlEscape(value)
+        << "</td></tr>\n";
+  }
+  out << "</table>\n<p>No plots: run <code>python3 "
+      << htmlEscape(plotScriptPath().string())
+      << " &lt;this folder&gt;</code> (needs " << kInstallHint
+      << ").</p>\n<h2>Files</h2>\n<ul>\n"
+      << "<li><a href=\"summary.json\">summary.json</a></li>\n";
+  for (const std::string& f : files) {
+    out << "<li><a href=\"" << htmlEscape(f) << "\">" << htmlEscape(f)
+        << "</a></li>\n";
+  }
+  out << "</ul>\n</body></html>\n";
+  finish(out, file);
+}
+
+std::string findPlotInterpreter() {
+  for (const std::string& py : interpreterCandidates()) {
+    if (runShell(shellQuote(py) +
+                 " -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0) {
+      return py;
+    }
+  }
+  return {};
+}
+
+fs::path plotScriptPath() {
+  const char* env = std::getenv("CONFTRACK_DATA_DIR");
+#ifdef CONFTRACK_DATA_DIR
+  const fs::path data =
+      env != nullptr ? fs::path(env) : fs::path(CONFTRACK_DATA_DIR);
+#else
+  const fs::path data = env != nullptr ? fs::path(env) : fs::path(".");
+#endif
+  return data / "scripts" / "conftrack_plots.py";
+}
+
+PlotScriptResult runPlotScript(const fs::path& dir, std::ostream& log) {
+  PlotScriptResult result;
+  const fs::path script = plotScriptPath();
+  if (!fs::exists(script)) {
+    result.message = "no plots: plot script " + script.string() +
+                     " not found (set CONFTRACK_DATA_DIR to the conftrack "
+                     "source folder)";
+    log << result.message << '\n';
+    return result;
+  }
+  const std::string withMatplotlib = findPlotInterpreter();
+  std::string anyPython = withMatplotlib;
+  if (anyPython.empty()) {
+    for (const std::string& py : interpreterCandidates()) {
+      if (runShell(shellQuote(py) + " -c pass >/dev/null 2>&1") == 0) {
+        anyPython = py;
+        break;
+      }
+    }
+  }
+  if (anyPython.empty()) {
+    result.message =
+        std::string("no plots: python3 not found; install it with: ") +
+        "apt-get install python3 python3-matplotlib python3-numpy";
+    log << result.message << '\n';
+    return result;
+  }
+  const std::string python =
+      withMatplotlib.empty() ? anyPython : withMatplotlib;
+  const int rc =
+      runShell(shellQuote(python) + " " + shellQuote(script.string()) + " " +
+               shellQuote(dir.string()));
+  if (withMatplotlib.empty()) {
+    result.message = std::string("no plots: matplotlib/numpy not found for ") +
+                     python + "; install them with: " + kInstallHint +
+                     " (index.html lists the CSV files)";
+  } else if (rc != 0) {
+    result.message = "plot script failed (exit code " + std::to_string(rc) +
+                     "); the CSV files and summary.json are written";
+  } else {
+    result.plotted = true;
+    result.message = "plots and index.html written to " + dir.string();
+  }
+  log << result.message << '\n';
+  return result;
+}
+
+PlotScriptResult writePerformanceReport(const fs::path& dir,
+                                        const RunMetadata& metadata,
+                                        const PerformanceSummary& summary,
+                                        bool plots, std::ostream& log) {
+  fs::create_directories(dir);
+  writeSummaryJson(dir / "summary.json", metadata, summary);
+  const std::vector<std::string> files = writeHistogramCsvs(dir, summary);
+  writeIndexHtml(dir, metadata, summary, files);
+  if (!plots) {
+    return PlotScriptResult{false, "plots not requested"};
+  }
+  return runPlotScript(dir, log);
+}
+
+}  // namespace conftrack

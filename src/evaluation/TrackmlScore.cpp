@@ -1,0 +1,166 @@
+#include "conftrack/evaluation/TrackmlScore.hpp"
+
+#include "conftrack/simulation/TrackmlEvents.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace conftrack {
+
+std::vector<std::uint64_t> trackmlLabels(
+    std::size_t nHits, std::span<const std::vector<HitIndex>> tracks) {
+  std::vector<std::uint64_t> labels(nHits, 0);
+  // Owner's length per hit; a hit moves to a strictly longer track only,
+  // so that ties stay with the earlier track.
+  std::vector<std::size_t> ownerLength(nHits, 0);
+  for (std::size_t k = 0; k < tracks.size(); ++k) {
+    const std::size_t length = tracks[k].size();
+    for (HitIndex h : tracks[k]) {
+      if (h >= nHits) {
+        throw std::invalid_argument(
+            "trackmlLabels: track " + std::to_string(k) + " has hit index " +
+            std::to_string(h) + " of " + std::to_string(nHits) + " hits");
+      }
+      if (labels[h] == 0 || length > ownerLength[h]) {
+        labels[h] = k + 1;
+        ownerLength[h] = length;
+      }
+    }
+  }
+  return labels;
+}
+
+TrackmlScore scoreTrackml(const Event& event,
+                          std::span<const std::uint64_t> labels,
+                          const TrackmlScoreConfig& config) {
+  if (!event.hasTruth()) {
+    throw std::invalid_argument("scoreTrackml: the event has no truth");
+  }
+  if (labels.size() != event.hits.size()) {
+    throw std::invalid_argument(
+        "scoreTrackml: " + std::to_string(labels.size()) + " labels for " +
+        std::to_string(event.hits.size()) + " hits");
+  }
+  const std::size_t n = event.hits.size();
+  TrackmlScore result;
+
+  std::vector<double> weights(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    weights[i] = event.truth[i].weight;
+  }
+  result.totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
+  if (result.totalWeight == 0.0) {
+    weights = computeTrackmlWeights(event.truth, event.particles);
+    result.weightsComputed = true;
+    result.totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
+  }
+
+  // True number of hits per particle (score.py: value_counts of the truth),
+  // noise (particle 0) included as if it were a particle.
+  std::unordered_map<std::uint64_t, std::uint32_t> particleHits;
+  for (const HitTruth& t : event.truth) {
+    ++particleHits[t.particleId];
+  }
+
+  // score.py sorts the hits by (track_id, particle_id) and walks the runs.
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (labels[a] != labels[b]) {
+      return labels[a] < labels[b];
+    }
+    return event.truth[a].particleId < event.truth[b].particleId;
+  });
+
+  double goodWeight = 0.0;
+  std::unordered_set<std::uint64_t> reconstructed;
+  for (std::size_t first = 0; first < n;) {
+    const std::uint64_t label = labels[order[first]];
+    std::size_t end = first;
+    while (end < n && labels[order[end]] == label) {
+      ++end;
+    }
+    const std::size_t trackHits = end - first;
+    // Majority particle: most hits; on a tie the smaller id (the first run
+    // in the sort order, as score.py's strict comparison keeps it).
+    std::uint64_t majority = 0;
+    std::size_t majorityHits = 0;
+    double majorityWeight = 0.0;
+    for (std::size_t run = first; run < end;) {
+      const std::uint64_t particle = event.truth[order[run]].particleId;
+      std::size_t runEnd = run;
+      double runWeight = 0.0;
+      while (runEnd < end && event.truth[order[runEnd]].particleId == particle) {
+        runWeight += weights[order[runEnd]];
+        ++runEnd;
+      }
+      if (runEnd - run > majorityHits) {
+        majority = particle;
+        majorityHits = runEnd - run;
+        majorityWeight = runWeight;
+      }
+      run = runEnd;
+    }
+    // Strict double majority: > 50 % of the track and > 50 % of the
+    // particle.
+    const bool good = 2 * majorityHits > trackHits &&
+                      2 * majorityHits > particleHits[majority];
+    ++result.nTracks;
+    if (good) {
+      ++result.nGoodTracks;
+      goodWeight += majorityWeight;
+    }
+    if (label != 0) {
+      if (good && majority != 0) {
+        reconstructed.insert(majority);
+      }
+      if (trackHits >= config.minTrackHits) {
+        ++result.nSelectedTracks;
+        if (!good || majority == 0) {
+          ++result.nFakeTracks;
+        }
+      }
+    }
+    first = end;
+  }
+  result.score = result.totalWeight > 0.0 ? goodWeight / result.totalWeight
+                                          : 0.0;
+
+  for (const auto& [particle, hits] : particleHits) {
+    if (particle == 0 || hits < config.minParticleHits) {
+      continue;
+    }
+    if (config.minPt > 0.0) {
+      ParticleIndex p = event.findParticle(particle);
+      if (p == kInvalidIndex || event.particles[p].pt() < config.minPt) {
+        continue;
+      }
+    }
+    ++result.nReconstructable;
+    if (reconstructed.contains(particle)) {
+      ++result.nReconstructed;
+    }
+  }
+  if (result.nReconstructable > 0) {
+    result.efficiency = static_cast<double>(result.nReconstructed) /
+                        static_cast<double>(result.nReconstructable);
+  }
+  if (result.nSelectedTracks > 0) {
+    result.fakeRate = static_cast<double>(result.nFakeTracks) /
+                      static_cast<double>(result.nSelectedTracks);
+  }
+  return result;
+}
+
+TrackmlScore scoreTrackml(const Event& event,
+                          std::span<const std::vector<HitIndex>> tracks,
+                          const TrackmlScoreConfig& config) {
+  std::vector<std::uint64_t> labels = trackmlLabels(event.hits.size(), tracks);
+  return scoreTrackml(event, std::span<const std::uint64_t>(labels), config);
+}
+
+}  // namespace conftrack
