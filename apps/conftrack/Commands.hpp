@@ -11,5 +11,7 @@ namespace conftrack::cli {
 
 void addDetectorCommand(CLI::App& app);
 void addSimulateCommand(CLI::App& app);
+void addReconstructCommand(CLI::App& app);
+void addRunCommand(CLI::App& app);
 
 }  // namespace conftrack::cli

@@ -1,5 +1,7 @@
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/io/TextFile.hpp"
 
 #include <cstdio>
 #include <iostream>
@@ -93,6 +95,28 @@ void addDetectorCommand(CLI::App& app) {
                    "Shipped detector name (clicdet, cld, ...) or TOML path")
       ->required();
   show->callback([name]() { printDetector(loadDetector(*name)); });
-}
+
+  auto csv = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  CLI::App* import = cmd->add_subcommand(
+      "import-trackml",
+      "Build a detector file from the TrackML detectors.csv(.gz)");
+  import->add_option("csv", *csv, "detectors.csv or detectors.csv.gz")
+      ->required();
+  import->add_option("-o,--output", *out, "TOML file (default: stdout)");
+  import->callback([csv, out]() {
+    TrackmlDetectorOptions options;
+  options.source = *csv;
+  std::string toml = buildTrackmlDetectorToml(
+      parseTrackmlModules(readTextFile(*csv), *csv), options);
+  // Validate before writing: the result must load.
+  parseDetector(toml, "generated TrackML detector");
+  if (out->empty()) {
+    std::fwrite(toml.data(), 1, toml.size(), stdout);
+  } else {
+    writeTextFile(*out, toml, false);
+  }
+});
+}  // namespace conftrack::cli
 
 }  // namespace conftrack::cli

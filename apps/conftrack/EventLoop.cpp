@@ -48,7 +48,7 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
     throw InputError("--config and --gen: give the settings in one of them");
   }
   if (!o.configFile.empty()) {
-    c.generatorToml = readTextFile(o.configFile, "generator");
+    c.generatorToml = readConfigText(o.configFile, "generator");
     c.generatorTomlSource = o.configFile;
   } else if (!o.settings.empty()) {
     std::string generator;

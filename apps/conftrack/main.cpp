@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
 
   cli::addDetectorCommand(app);
   cli::addSimulateCommand(app);
+  cli::addReconstructCommand(app);
+  cli::addRunCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -29,8 +29,8 @@ std::filesystem::path resolveShippedFile(const std::string& folder,
   return candidate;
 }
 
-std::string readTextFile(const std::filesystem::path& file,
-                         const std::string& what) {
+std::string readConfigText(const std::filesystem::path& file,
+                           const std::string& what) {
   std::ifstream in(file);
   if (!in) {
     throw InputError(file.string(), "cannot open " + what + " file");

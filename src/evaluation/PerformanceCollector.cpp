@@ -308,7 +308,6 @@ PerformanceData PerformanceCollector::analyseEvent(
       continue;
     }
     const Particle& particle = event.particles[p];
-    ++d.reconstructableParticles;
     const bool found = truth.nMatchedTracks > 0;
     const double pt = particle.pt();
     const double theta = polarAngle(particle.momentum);
@@ -318,10 +317,21 @@ PerformanceData PerformanceCollector::analyseEvent(
 
     EfficiencyRatios& origin =
         particle.isBackground() ? d.backgroundEfficiency : d.signalEfficiency;
-    for (EfficiencyRatios* e : {&d.efficiency, &origin}) {
-      e->all.add(found);
-      (pt > 1.0 * units::GeV ? e->ptAbove1GeV : e->ptBelow1GeV).add(found);
+    origin.all.add(found);
+    (pt > 1.0 * units::GeV ? origin.ptAbove1GeV : origin.ptBelow1GeV)
+        .add(found);
+    // Headline efficiencies and their distributions are those of the
+    // physics event's particles (paper section 5); overlay particles count
+    // only in backgroundEfficiency (and, through their tracks, in the fake
+    // and duplicate rates) unless includeBackground.
+    if (particle.isBackground() && !m_config.includeBackground) {
+      continue;
     }
+    ++d.reconstructableParticles;
+    d.efficiency.all.add(found);
+    (pt > 1.0 * units::GeV ? d.efficiency.ptAbove1GeV
+                           : d.efficiency.ptBelow1GeV)
+        .add(found);
     d.actsEfficiency.add(actsMatched[p] > 0);
 
     const bool ptCut = pt > cut.minPt;

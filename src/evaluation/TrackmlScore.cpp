@@ -94,7 +94,8 @@ TrackmlScore scoreTrackml(const Event& event,
       const std::uint64_t particle = event.truth[order[run]].particleId;
       std::size_t runEnd = run;
       double runWeight = 0.0;
-      while (runEnd < end && event.truth[order[runEnd]].particleId == particle) {
+      while (runEnd < end &&
+             event.truth[order[runEnd]].particleId == particle) {
         runWeight += weights[order[runEnd]];
         ++runEnd;
       }
@@ -127,8 +128,8 @@ TrackmlScore scoreTrackml(const Event& event,
     }
     first = end;
   }
-  result.score = result.totalWeight > 0.0 ? goodWeight / result.totalWeight
-                                          : 0.0;
+  result.score =
+      result.totalWeight > 0.0 ? goodWeight / result.totalWeight : 0.0;
 
   for (const auto& [particle, hits] : particleHits) {
     if (particle == 0 || hits < config.minParticleHits) {

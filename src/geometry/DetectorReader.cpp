@@ -164,6 +164,11 @@ class Builder {
         layer.sigmaV = l.getDouble("sigma_r_um", Range::positive()) * units::um;
         layer.nZModules = static_cast<std::uint32_t>(
             l.getInt("n_rings", 1, Range::closed(1, 1e6)));
+        // TrackML numbers endcap layers by increasing z on both sides, so
+        // the -z side may need its own layer_id.
+        const auto trackmlLayerNeg = static_cast<std::uint32_t>(l.getInt(
+            "trackml_layer_neg", static_cast<std::int64_t>(layer.trackmlLayer),
+            Range::positive()));
         checkInside(l, "z_mm", layer.rMax, z);
         l.rejectUnknownKeys();
         SensitiveLayer neg = layer;
@@ -171,6 +176,7 @@ class Builder {
         neg.zMin = neg.zMax = -z;
         neg.id.side = Side::eNegative;
         neg.trackmlVolume = volNeg;
+        neg.trackmlLayer = trackmlLayerNeg;
         SensitiveLayer pos = layer;
         pos.name = layer.name + "_pos";
         pos.zMin = pos.zMax = z;
@@ -336,7 +342,7 @@ Detector parseDetector(std::string_view text, const std::string& sourceName) {
 }
 
 Detector readDetector(const std::filesystem::path& file) {
-  return parseDetector(readTextFile(file, "detector"), file.string());
+  return parseDetector(readConfigText(file, "detector"), file.string());
 }
 
 std::filesystem::path resolveDetectorPath(const std::string& nameOrPath) {

@@ -17,6 +17,13 @@
 namespace conftrack {
 namespace {
 
+/// The reference event's expectations count its background particle P3.
+PerformanceConfig withBackground() {
+  PerformanceConfig c;
+  c.includeBackground = true;
+  return c;
+}
+
 using test::EventWithTracks;
 
 void expectRatio(const Ratio& r, std::uint64_t passed, std::uint64_t total,
@@ -42,7 +49,7 @@ PerformanceData analyse(const PerformanceCollector& c,
 
 TEST(PerformanceCollector, ReferenceEventCountsClicdp) {
   const EventWithTracks e = test::referenceEvent();
-  PerformanceCollector collector;
+  PerformanceCollector collector(withBackground());
   const PerformanceData d = analyse(collector, e);
 
   EXPECT_EQ(d.events, 1u);
@@ -79,7 +86,7 @@ TEST(PerformanceCollector, ReferenceEventCountsClicdp) {
 
 TEST(PerformanceCollector, ReferenceEventDistributions) {
   const EventWithTracks e = test::referenceEvent();
-  PerformanceCollector collector;
+  PerformanceCollector collector(withBackground());
   const PerformanceData d = analyse(collector, e);
 
   expectRatio(d.efficiencyVsPt.total(), 2, 2, "eff vs pT");
@@ -107,6 +114,7 @@ TEST(PerformanceCollector, PurityThresholdIsConfigurable) {
   const EventWithTracks e = test::referenceEvent();
   PerformanceConfig config;
   config.matching.purity = 0.8;  // T2 (0.75) becomes a fake, P2 is lost
+  config.includeBackground = true;
   PerformanceCollector collector(config);
   const PerformanceData d = analyse(collector, e);
   expectRatio(d.fakes, 3, 5, "fakes at 0.8");
@@ -120,6 +128,7 @@ TEST(PerformanceCollector, ActsMatchingAsHeadline) {
   PerformanceConfig config;
   config.matching.purity = 0.5;
   config.matching.doubleMatching = true;
+  config.includeBackground = true;
   PerformanceCollector collector(config);
   const PerformanceData d = analyse(collector, e);
   expectRatio(d.efficiency.all, 2, 3, "efficiency");
@@ -140,7 +149,7 @@ TEST(PerformanceCollector, SingleParticleTrackSelection) {
 TEST(PerformanceCollector, EventWithoutTruthCountsOnlyTracksAndTimes) {
   EventWithTracks e = test::referenceEvent();
   e.event.truth.clear();
-  PerformanceCollector collector;
+  PerformanceCollector collector(withBackground());
   const auto steps = test::twoSteps(1.5, 2.5);
   const PerformanceData d = collector.analyseEvent(
       e.event, e.tracks, 4.0, steps, EventTimes{10.0, 4.0, 3.0});
@@ -155,7 +164,7 @@ TEST(PerformanceCollector, EventWithoutTruthCountsOnlyTracksAndTimes) {
 
 TEST(PerformanceCollector, MergesCountsTimesAndSteps) {
   const EventWithTracks e = test::referenceEvent();
-  PerformanceCollector collector;
+  PerformanceCollector collector(withBackground());
   for (std::size_t i = 0; i < 3; ++i) {
     collector.addEvent(i, e.event, e.tracks, 4.0, test::twoSteps(1.0 + i, 2.0),
                        EventTimes{10.0, 4.0 + i, 1.0});
@@ -248,6 +257,24 @@ TEST(PerformanceCollector, MergeOrderDoesNotChangeResults) {
     t.join();
   }
   EXPECT_EQ(summaryText(threaded), expected);
+}
+
+}  // namespace
+}  // namespace conftrack
+
+namespace conftrack {
+namespace {
+
+TEST(PerformanceCollector, HeadlineExcludesBackgroundByDefault) {
+  const test::EventWithTracks e = test::referenceEvent();
+  PerformanceCollector collector;
+  const PerformanceData d =
+      collector.analyseEvent(e.event, e.tracks, 4.0, {}, {});
+  // P3, the background particle, is left out of the headline...
+  EXPECT_EQ(d.reconstructableParticles, 2u);
+  EXPECT_EQ(d.efficiency.all.total, 2u);
+  // ...and reported on its own.
+  EXPECT_EQ(d.backgroundEfficiency.all.total, 1u);
 }
 
 }  // namespace

@@ -81,7 +81,9 @@ RunMetadata ttbarMetadata() {
 
 /// Four reference events with times and two steps.
 PerformanceSummary ttbarSummary() {
-  PerformanceCollector collector;
+  PerformanceConfig withBackground;
+  withBackground.includeBackground = true;  // the reference event's P3
+  PerformanceCollector collector(withBackground);
   const test::EventWithTracks e = test::referenceEvent();
   for (std::size_t i = 0; i < 4; ++i) {
     collector.addEvent(i, e.event, e.tracks, 4.0,
@@ -94,6 +96,7 @@ PerformanceSummary ttbarSummary() {
 /// Muons at the five polar angles and three pT values.
 PerformanceSummary muonSummary(std::size_t perPoint) {
   PerformanceConfig config = PerformanceConfig::singleParticleSample();
+  config.includeBackground = true;
   PerformanceCollector collector(config);
   std::mt19937_64 rng(3);
   std::size_t index = 0;

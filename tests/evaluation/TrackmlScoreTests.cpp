@@ -53,7 +53,8 @@ double referenceScore(const Event& event, const Labels& labels) {
     ++particleHits[t.particleId];
     total += t.weight;
   }
-  std::map<std::uint64_t, std::map<std::uint64_t, std::pair<std::size_t, double>>>
+  std::map<std::uint64_t,
+           std::map<std::uint64_t, std::pair<std::size_t, double>>>
       tracks;  // track -> particle -> (hits, weight)
   for (std::size_t i = 0; i < labels.size(); ++i) {
     auto& entry = tracks[labels[i]][event.truth[i].particleId];
@@ -226,10 +227,10 @@ TEST(TrackmlScore, ComputesMissingWeights) {
   // Particle 1 split 3 + 1, losing the farthest hit (rank 3). Both
   // particles have pT 1 GeV; particle 2's hits all tie (rank 2.5 -> 1).
   s = scoreTrackml(event, Labels{1, 1, 1, 5, 2, 2, 2, 2, 3, 3, 0, 0});
-  EXPECT_NEAR(s.score,
-              1.0 - trackmlOrderWeight(3, 4) /
-                        (1.0 + 4.0 * trackmlOrderWeight(1, 4)),
-              1e-12);
+  EXPECT_NEAR(
+      s.score,
+      1.0 - trackmlOrderWeight(3, 4) / (1.0 + 4.0 * trackmlOrderWeight(1, 4)),
+      1e-12);
 }
 
 TEST(TrackmlScore, LabelsFromTracks) {

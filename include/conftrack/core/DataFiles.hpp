@@ -18,7 +18,7 @@ std::filesystem::path resolveShippedFile(const std::string& folder,
                                          const std::string& what);
 
 /// Reads a whole text file; InputError "file: cannot open <what> file".
-std::string readTextFile(const std::filesystem::path& file,
-                         const std::string& what);
+std::string readConfigText(const std::filesystem::path& file,
+                           const std::string& what);
 
 }  // namespace conftrack

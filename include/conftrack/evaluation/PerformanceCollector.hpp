@@ -50,6 +50,10 @@ struct PlotSelection {
 struct PerformanceConfig {
   /// Reconstructable particles (CLICdp ILDLike).
   ParticleSelection particles;
+  /// Count overlaid background particles in the headline efficiencies and
+  /// their distributions. Off: as in the paper, those are the physics
+  /// event's particles; background efficiency is reported separately.
+  bool includeBackground = false;
   /// Track-particle matching of the headline numbers (CLICdp: one-way,
   /// purity >= 0.75; set doubleMatching and purity 0.5 for ACTS).
   MatchingConfig matching;
@@ -113,14 +117,17 @@ struct PerformanceData {
   /// Field of the last merged event [T].
   double bz = 0.0;
 
+  /// Reconstructable headline particles (see includeBackground).
   std::uint64_t reconstructableParticles = 0;
   std::uint64_t tracks = 0;
   std::uint64_t fittedTracks = 0;
   /// Tracks with nHits >= minTrackHits.
   std::uint64_t selectedTracks = 0;
 
-  /// Efficiency of all reconstructable particles, of those from the
-  /// physics event (signal) and of the overlaid background.
+  /// Efficiency of the headline particles (the physics event's, or all with
+  /// includeBackground), of the physics event's and of the background. The
+  /// plot-cut ratios and the efficiency histograms are also for the physics
+  /// event's particles.
   EfficiencyRatios efficiency;
   EfficiencyRatios signalEfficiency;
   EfficiencyRatios backgroundEfficiency;

@@ -132,7 +132,7 @@ FinderConfig parseChain(std::string_view text, const std::string& sourceName,
 
 FinderConfig readChain(const std::filesystem::path& file,
                        const Detector& detector) {
-  return parseChain(readTextFile(file, "chain"), file.string(), detector);
+  return parseChain(readConfigText(file, "chain"), file.string(), detector);
 }
 
 std::filesystem::path resolveChainPath(const std::string& nameOrPath) {

@@ -33,8 +33,7 @@ Vector3 HelixState::direction() const {
   const double phi = params[ePhi0];
   const double tl = params[eTanLambda];
   const double cosLambda = 1.0 / std::sqrt(1.0 + tl * tl);
-  return {cosLambda * std::cos(phi), cosLambda * std::sin(phi),
-          cosLambda * tl};
+  return {cosLambda * std::cos(phi), cosLambda * std::sin(phi), cosLambda * tl};
 }
 
 Vector3 HelixState::momentum(double bz) const {
@@ -163,18 +162,17 @@ std::optional<ThreePointHelix> threePointHelix(const Vector3& p1,
     // Curved: angles around the circumcentre in the direction of motion.
     const double den = 2.0 * cross;
     const Vector2 centre =
-        p1.head<2>() + Vector2(d13.y() * d12.squaredNorm() -
-                                   d12.y() * d13.squaredNorm(),
-                               d12.x() * d13.squaredNorm() -
-                                   d13.x() * d12.squaredNorm()) /
-                           den;
+        p1.head<2>() +
+        Vector2(d13.y() * d12.squaredNorm() - d12.y() * d13.squaredNorm(),
+                d12.x() * d13.squaredNorm() - d13.x() * d12.squaredNorm()) /
+            den;
     const Vector2 r1 = p1.head<2>() - centre;
     const Vector2 r2 = p2.head<2>() - centre;
     const Vector2 r3 = p3.head<2>() - centre;
     const double sense = omega > 0.0 ? -1.0 : 1.0;  // +1 counter-clockwise
     auto turned = [&](const Vector2& from, const Vector2& to) {
-      const double alpha = std::atan2(from.x() * to.y() - from.y() * to.x(),
-                                      from.dot(to));
+      const double alpha =
+          std::atan2(from.x() * to.y() - from.y() * to.x(), from.dot(to));
       double psi = sense * alpha;
       return psi < 0.0 ? psi + kTwoPi : psi;
     };

@@ -9,8 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <cstdio>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace conftrack {
@@ -34,6 +34,9 @@ constexpr double kMaxArc = 100.0 * units::m;
 /// The iterated update stops when the exact crossing residual agrees with
 /// the linear model within this fraction of the resolution.
 constexpr double kLinearTolerance = 0.02;
+/// Flags of the hits of a candidate during the fit.
+constexpr std::uint8_t kOutlier = 1;      ///< chi2 increment above the cut
+constexpr std::uint8_t kUnreachable = 2;  ///< its surface was not reached
 /// A point closer than this to a surface is on it [mm].
 constexpr double kOnSurface = 1e-9 * units::mm;
 
@@ -203,8 +206,7 @@ KalmanFitter::KalmanFitter(const Detector& detector, const Config& config)
 }
 
 FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
-                                      int direction,
-                                      Propagation& state) const {
+                                      int direction, Propagation& state) const {
   if (!(surface.thicknessX0 > 0.0) ||
       (!m_config.multipleScattering && !m_config.energyLoss)) {
     return FitStatus::eSuccess;
@@ -215,7 +217,6 @@ FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
       std::max(std::abs(helix.direction().dot(surface.normal(helix.pca()))),
                std::max(m_config.minCosIncidence, surface.grazingCos));
   const double xOverX0 = surface.thicknessX0 / cosIncidence;
-  if (std::getenv("FITDBG2")) std::fprintf(stderr, "  mat dir %d layer %d r %.1f z %.1f x %.4f cos %.3f\n", direction, surface.layer, helix.pca().head<2>().norm(), helix.pca().z(), xOverX0, cosIncidence);
   const double omega = state.params[eOmega];
   const double tanLambda = state.params[eTanLambda];
   const double secLambda2 = 1.0 + tanLambda * tanLambda;
@@ -251,8 +252,8 @@ FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
     // (the p dependence of the loss itself neglected).
     const double pNew = direction > 0 ? pAfter : pBefore;
     const double ratio = p / pNew;
-    const double derivative = ratio * ratio * (p / std::hypot(p, m)) /
-                              (pNew / std::hypot(pNew, m));
+    const double derivative =
+        ratio * ratio * (p / std::hypot(p, m)) / (pNew / std::hypot(pNew, m));
     state.params[eOmega] = omega * ratio;
     state.cov.row(eOmega) *= derivative;
     state.cov.col(eOmega) *= derivative;
@@ -297,8 +298,8 @@ FitStatus KalmanFitter::crossing(const HelixState& state,
   const Helix forward = makeHelix(state, m_bz, +1);
   const double ahead =
       crossExtended(forward, surface, 0.0, kOwnCrossingTolerance);
-  const double behind = crossExtended(makeHelix(state, m_bz, -1), surface,
-                                      0.0, kOwnCrossingTolerance);
+  const double behind = crossExtended(makeHelix(state, m_bz, -1), surface, 0.0,
+                                      kOwnCrossingTolerance);
   double s = 0.0;
   if (ahead <= behind && ahead < kInf) {
     s = ahead;
@@ -322,6 +323,11 @@ FitStatus KalmanFitter::moveToCrossing(Propagation& state,
   TrackJacobian jacobian;
   const FitStatus status =
       crossing({state.pivot, state.params}, surface, moved, jacobian);
+  if (status == FitStatus::ePropagationFailed) {
+    // The updated helix no longer reaches the surface (a grazing
+    // crossing): stay at the PCA, which is as close as it gets.
+    return FitStatus::eSuccess;
+  }
   if (status != FitStatus::eSuccess) {
     return status;
   }
@@ -357,15 +363,15 @@ FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
     if (!(sGoal < kInf)) {
       return FitStatus::ePropagationFailed;
     }
-    const SurfaceCrossing next = m_navigator.nextCrossing(walk, kMinStep, sGoal);
+    const SurfaceCrossing next =
+        m_navigator.nextCrossing(walk, kMinStep, sGoal);
     const bool arrive = !next.found() || next.surface == target;
     const double s = arrive ? sGoal : next.s;
     const Vector3 position = walk.position(s);
     TrackVector moved;
     TrackJacobian jacobian;
-    const double sMoved =
-        movePivot(state.params, state.pivot, position, direction * s, moved,
-                  &jacobian);
+    const double sMoved = movePivot(state.params, state.pivot, position,
+                                    direction * s, moved, &jacobian);
     if (!std::isfinite(sMoved) || !moved.allFinite()) {
       return FitStatus::eNumericalProblem;
     }
@@ -429,9 +435,8 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
       const Vector3 position = walk.position(next.s);
       TrackVector moved;
       TrackJacobian jacobian;
-      const double sMoved =
-          movePivot(state.params, state.pivot, position, direction * next.s,
-                    moved, &jacobian);
+      const double sMoved = movePivot(state.params, state.pivot, position,
+                                      direction * next.s, moved, &jacobian);
       if (!std::isfinite(sMoved) || !moved.allFinite()) {
         return FitStatus::eNumericalProblem;
       }
@@ -460,13 +465,129 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
   return FitStatus::eSuccess;
 }
 
+FitStatus KalmanFitter::update(const Hit& hit, const NavigationSurface& layer,
+                               const Vector3& pivot, const TrackVector& x0,
+                               const TrackCovariance& c0, TrackVector& x,
+                               TrackCovariance& c, double& chi2) const {
+  Vector2 residual;
+  Matrix25 h;
+  Matrix2 v;
+  if (!measurementModel(hit, layer, {pivot, x0}, residual, h, v)) {
+    return FitStatus::ePropagationFailed;  // tangent: no measurement
+  }
+  // One linearised (EKF) step at xi: x = x0 + K (r(xi) + H(xi) (xi - x0)).
+  struct Step {
+    TrackVector x;
+    Matrix52 gain;
+    Matrix25 h;
+    double chi2 = 0.0;
+  };
+  auto linearStep = [&](const TrackVector& xi, const Vector2& ri,
+                        const Matrix25& hi, Step& out) {
+    TrackVector d = xi - x0;
+    d[ePhi0] = wrapAngle(d[ePhi0]);
+    const Vector2 innovation = ri + hi * d;
+    const Matrix52 pht = c0 * hi.transpose();
+    const Matrix2 s = v + hi * pht;
+    const double det = s.determinant();
+    if (!(det > 0.0) || !std::isfinite(det)) {
+      return false;
+    }
+    const Matrix2 sInv = s.inverse();
+    out.gain = pht * sInv;
+    out.h = hi;
+    out.x = x0 + out.gain * innovation;
+    out.x[ePhi0] = wrapAngle(out.x[ePhi0]);
+    out.chi2 = innovation.dot(sInv * innovation);
+    return out.x.allFinite() && std::isfinite(out.chi2);
+  };
+  // The exact residual m - h(x) and its Jacobian at x: h(x) is the
+  // measurement of the crossing of helix x with the layer.
+  auto exact = [&](const TrackVector& xi, Vector2& ri, Matrix25& hi) {
+    HelixState atCrossing;
+    TrackJacobian toCrossing;
+    Matrix2 vi;
+    if (crossing({pivot, xi}, layer, atCrossing, toCrossing) !=
+            FitStatus::eSuccess ||
+        !measurementModel(hit, layer, atCrossing, ri, hi, vi)) {
+      return false;
+    }
+    hi = hi * toCrossing;
+    return true;
+  };
+  Step best;
+  if (!linearStep(x0, residual, h, best)) {
+    return FitStatus::eNumericalProblem;
+  }
+  // Iterated update (IEKF, a Gauss-Newton minimisation of
+  // J(x) = |m - h(x)|^2_V + |x - x0|^2_C^-1): the crossing point is a
+  // non-linear function of the parameters, strongly so near tangent
+  // crossings (a square root) or after long extrapolations. Iterate while
+  // the exact residual at the new state differs from the linear model by
+  // more than kLinearTolerance of the resolution, accepting a step only if
+  // J decreases (no divergence in weakly constrained directions).
+  std::optional<Eigen::LDLT<TrackCovariance>> priorInverse;
+  const Matrix2 vInverse = v.inverse();
+  auto costOf = [&](const TrackVector& xc, const Vector2& rc) {
+    if (!priorInverse) {
+      priorInverse.emplace(c0);
+    }
+    TrackVector d = xc - x0;
+    d[ePhi0] = wrapAngle(d[ePhi0]);
+    return rc.dot(vInverse * rc) + d.dot(priorInverse->solve(d));
+  };
+  // Current linearisation point and the exact residual at `best`.
+  TrackVector lin = x0;
+  Vector2 rLin = residual;
+  Matrix25 hLin = h;
+  Vector2 rBest;
+  Matrix25 hBest;
+  bool haveExact =
+      m_config.maxUpdateIterations > 1 && exact(best.x, rBest, hBest);
+  for (unsigned iteration = 1;
+       haveExact && iteration < m_config.maxUpdateIterations; ++iteration) {
+    TrackVector step = best.x - lin;
+    step[ePhi0] = wrapAngle(step[ePhi0]);
+    const Vector2 deviation = rBest - (rLin - hLin * step);
+    if (std::abs(deviation(0)) <= kLinearTolerance * hit.sigmaU &&
+        std::abs(deviation(1)) <= kLinearTolerance * hit.sigmaV) {
+      break;  // linear enough
+    }
+    const double costBest = costOf(best.x, rBest);
+    Step candidate;
+    Vector2 rNext;
+    Matrix25 hNext;
+    if (!linearStep(best.x, rBest, hBest, candidate) ||
+        !exact(candidate.x, rNext, hNext) ||
+        !(costOf(candidate.x, rNext) < costBest)) {
+      break;  // no improvement: keep the last accepted step
+    }
+    lin = best.x;
+    rLin = rBest;
+    hLin = hBest;
+    best = candidate;
+    rBest = rNext;
+    hBest = hNext;
+  }
+  x = best.x;
+  // Joseph form (Frühwirth 1987 eq. 7-9): stays positive definite when the
+  // diffuse prior shrinks by many orders of magnitude in one step.
+  const TrackJacobian ikh = TrackJacobian::Identity() - best.gain * best.h;
+  c = ikh * c0 * ikh.transpose() + best.gain * v * best.gain.transpose();
+  symmetrize(c);
+  chi2 = best.chi2;
+  if (!c.allFinite()) {
+    return FitStatus::eNumericalProblem;
+  }
+  return FitStatus::eSuccess;
+}
+
 FitStatus KalmanFitter::filter(std::span<const Hit> hits,
                                const FoundTrack& found,
                                const std::vector<std::uint32_t>& surfaces,
                                const std::vector<std::uint32_t>& order,
                                int direction, const HelixState& start,
                                const TrackCovariance& startCov,
-                               bool materialAtFirstNode,
                                std::vector<std::uint8_t>& skip,
                                Pass& pass) const {
   const auto& navSurfaces = m_navigator.surfaces();
@@ -487,12 +608,9 @@ FitStatus KalmanFitter::filter(std::span<const Hit> hits,
       trial.params = start.params;
       trial.cov = startCov;
       // The start state may be off its surface (an updated state):
-      // measure at its actual crossing.
-      FitStatus status = moveToCrossing(trial, navSurfaces[surface]);
-      if (status == FitStatus::eSuccess && materialAtFirstNode &&
-          direction < 0) {
-        status = applyMaterial(navSurfaces[surface], -1, trial);
-      }
+      // measure at its actual crossing. It is on the inner side of the
+      // node's material already (the prefit has no side).
+      const FitStatus status = moveToCrossing(trial, navSurfaces[surface]);
       if (status != FitStatus::eSuccess) {
         return status;
       }
@@ -504,7 +622,7 @@ FitStatus KalmanFitter::filter(std::span<const Hit> hits,
       if (status == FitStatus::ePropagationFailed) {
         // The predicted track does not reach this hit's surface: the hit
         // cannot belong to it. Flag it and go on from the same state.
-        skip[index] = 1;
+        skip[index] = kUnreachable;
         continue;
       }
       if (status != FitStatus::eSuccess) {
@@ -522,81 +640,23 @@ FitStatus KalmanFitter::filter(std::span<const Hit> hits,
 
     const Hit& hit = hits[found.hits[index]];
     const NavigationSurface& layer = navSurfaces[surface];
-    // Iterated update (IEKF): the crossing point is a non-linear function
-    // of the parameters (a square root near tangency), so the measurement
-    // is re-linearised at the updated state until the linear model agrees
-    // with the exact crossing:
-    //   x_i+1 = x_pred + K_i (m - h(x_i) - H_i (x_pred - x_i)),
-    // K_i and H_i at x_i; h(x) is the measured crossing of the helix x.
-    Vector2 residual;
-    Matrix25 h;
-    Matrix2 v;
-    bool accepted = measurementModel(hit, layer, {trial.pivot, trial.params},
-                                     residual, h, v);
-    if (accepted) {
-      const TrackVector& x0 = trial.params;
-      TrackVector xi = x0;
-      Matrix52 gain;
-      double chi2 = 0.0;
-      TrackVector next = x0;
-      for (unsigned iteration = 0;; ++iteration) {
-        const Vector2 innovation = residual + h * (xi - x0);
-        const Matrix52 pht = trial.cov * h.transpose();
-        const Matrix2 s = v + h * pht;
-        const double det = s.determinant();
-        if (!(det > 0.0) || !std::isfinite(det)) {
-          return FitStatus::eNumericalProblem;
-        }
-        const Matrix2 sInv = s.inverse();
-        chi2 = innovation.dot(sInv * innovation);
-        if (!std::isfinite(chi2)) {
-          return FitStatus::eNumericalProblem;
-        }
-        gain = pht * sInv;
-        next = x0 + gain * innovation;
-        next[ePhi0] = wrapAngle(next[ePhi0]);
-        if (iteration + 1 >= m_config.maxUpdateIterations) {
-          break;
-        }
-        // Exact residual at the new state versus the linear prediction.
-        HelixState atCrossing;
-        TrackJacobian toCrossing;
-        Vector2 exact;
-        Matrix25 hNext;
-        Matrix2 vNext;
-        if (crossing({trial.pivot, next}, layer, atCrossing, toCrossing) !=
-                FitStatus::eSuccess ||
-            !measurementModel(hit, layer, atCrossing, exact, hNext, vNext)) {
-          break;
-        }
-        TrackVector step = next - xi;
-        step[ePhi0] = wrapAngle(step[ePhi0]);
-        const Vector2 linear = residual - h * step;
-        const Vector2 deviation = exact - linear;
-        if (std::abs(deviation(0)) <= kLinearTolerance * hit.sigmaU &&
-            std::abs(deviation(1)) <= kLinearTolerance * hit.sigmaV) {
-          break;
-        }
-        xi = next;
-        residual = exact;
-        h = hNext * toCrossing;
-      }
-      if (std::getenv("FITDBG")) { Matrix2 ss = v + h * trial.cov * h.transpose(); std::fprintf(stderr, "dir %d node %u chi2 %.3g res %.4g %.4g S %.3g %.3g corr %.3f V %.3g %.3g\n", direction, index, chi2, residual(0), residual(1), std::sqrt(ss(0,0)), std::sqrt(ss(1,1)), ss(0,1)/std::sqrt(ss(0,0)*ss(1,1)), std::sqrt(v(0,0)), std::sqrt(v(1,1)));}
-      if (chi2 <= m_config.maxChi2Increment) {
-        // Joseph form (Frühwirth 1987 eq. 7-9): stays positive definite
-        // when the diffuse prior shrinks by many orders in one step.
-        node.filtered = next;
-        const TrackJacobian ikh = TrackJacobian::Identity() - gain * h;
-        node.filteredCov = ikh * trial.cov * ikh.transpose() +
-                           gain * v * gain.transpose();
-        symmetrize(node.filteredCov);
-        node.used = true;
-        pass.chi2 += chi2;
-        ++pass.used;
-      }
+    double chi2 = 0.0;
+    const FitStatus status =
+        update(hit, layer, trial.pivot, trial.params, trial.cov, node.filtered,
+               node.filteredCov, chi2);
+    if (status == FitStatus::eNumericalProblem) {
+      return status;
+    }
+    if (status == FitStatus::eSuccess && chi2 <= m_config.maxChi2Increment) {
+      node.used = true;
+      pass.chi2 += chi2;
+      ++pass.used;
+    } else {
+      node.filtered = trial.params;
+      node.filteredCov = trial.cov;
     }
     if (!node.used) {
-      skip[index] = 1;
+      skip[index] = kOutlier;
     }
     state.pivot = node.pivot;
     state.params = node.filtered;
@@ -612,12 +672,12 @@ FitStatus KalmanFitter::filter(std::span<const Hit> hits,
 FitStatus KalmanFitter::fitDirection(std::span<const Hit> hits,
                                      const FoundTrack& found,
                                      const std::vector<std::uint32_t>& surfaces,
-                                     int direction, Track& track) const {
+                                     int direction, bool diffuse,
+                                     Track& track) const {
   const std::size_t n = found.hits.size();
-  const auto prefit =
-      threePointHelix(hits[found.hits.front()].position,
-                      hits[found.hits[n / 2]].position,
-                      hits[found.hits.back()].position);
+  const auto prefit = threePointHelix(hits[found.hits.front()].position,
+                                      hits[found.hits[n / 2]].position,
+                                      hits[found.hits.back()].position);
   if (!prefit) {
     return FitStatus::ePrefitFailed;
   }
@@ -625,39 +685,38 @@ FitStatus KalmanFitter::fitDirection(std::span<const Hit> hits,
   for (std::uint32_t i = 0; i < n; ++i) {
     order[i] = direction > 0 ? i : static_cast<std::uint32_t>(n - 1 - i);
   }
-  // Pass 1: from the prefit with the diffuse covariance.
+  // Pass 1: from the prefit.
   HelixState start;
   start.pivot = hits[found.hits[order.front()]].position;
   start.params = direction > 0 ? prefit->atFirst : prefit->atLast;
   TrackCovariance startCov = m_config.initialVariance.asDiagonal();
-  if (m_config.prefitOmegaFraction > 0.0) {
+  if (m_config.prefitOmegaFraction > 0.0 && !diffuse) {
     // The three hits span the whole track: their curvature is a far
     // better start than "anything" (upstream's 1e-4 mm^-2 allows radii
     // down to 100 mm), which on a short lever arm (e.g. the two double
     // disks of the forward vertex detector first) lets the first hits
     // pull Omega so far that the extrapolation to the next layer leaves
     // the linear regime.
-    const double sigma = m_config.prefitOmegaFraction *
-                             std::abs(start.params[eOmega]) +
-                         m_config.prefitOmegaFloor;
+    const double sigma =
+        m_config.prefitOmegaFraction * std::abs(start.params[eOmega]) +
+        m_config.prefitOmegaFloor;
     startCov(eOmega, eOmega) =
         std::min(startCov(eOmega, eOmega), sigma * sigma);
   }
   std::vector<std::uint8_t> skip(n, 0);
   Pass pass;
   FitStatus status = filter(hits, found, surfaces, order, direction, start,
-                            startCov, false, skip, pass);
+                            startCov, skip, pass);
   if (status != FitStatus::eSuccess) {
     return status;
   }
-  // Further passes, alternating in direction, each from the last used node
-  // of the previous one with its covariance scaled.
-  const int passes = 2 + static_cast<int>(m_config.extraPasses);
-  int passDirection = direction;
-  for (int iteration = 1; iteration < passes; ++iteration) {
-    auto lastUsed = std::find_if(pass.nodes.rbegin(), pass.nodes.rend(),
-                                 [](const Node& node) { return node.used; });
-    passDirection = -passDirection;
+  // Pass 2, the other way, from the last used node of pass 1 with its
+  // covariance scaled.
+  const int passDirection = -direction;
+  {
+    const auto lastUsed =
+        std::find_if(pass.nodes.rbegin(), pass.nodes.rend(),
+                     [](const Node& node) { return node.used; });
     order.clear();
     if (passDirection > 0) {
       for (std::uint32_t i = lastUsed->hit; i < n; ++i) {
@@ -672,15 +731,17 @@ FitStatus KalmanFitter::fitDirection(std::span<const Hit> hits,
     start.params = lastUsed->filtered;
     const TrackCovariance cov =
         lastUsed->filteredCov * m_config.refitCovarianceScale;
-    Pass next;
+    // Hits pass 1 could not reach get another chance from a better
+    // trajectory; chi2 outliers stay out.
+    std::replace(skip.begin(), skip.end(), kUnreachable, std::uint8_t{0});
+    Pass second;
     status = filter(hits, found, surfaces, order, passDirection, start, cov,
-                    false, skip, next);
+                    skip, second);
     if (status != FitStatus::eSuccess) {
       return status;
     }
-    pass = std::move(next);
+    pass = std::move(second);
   }
-  direction = -passDirection;  // the smoothed pass runs against `direction`
 
   // RTS smoother (Frühwirth 1987 eq. 19-21) over the nodes of pass 2:
   // G = C_k|k F^T C_k+1|k^-1, computed as G^T = C_k+1|k^-1 (F C_k|k) with
@@ -702,19 +763,19 @@ FitStatus KalmanFitter::fitDirection(std::span<const Hit> hits,
     diff[ePhi0] = wrapAngle(diff[ePhi0]);
     smoothed[k] = node.filtered + gainT.transpose() * diff;
     smoothed[k][ePhi0] = wrapAngle(smoothed[k][ePhi0]);
-    smoothedCov[k] = node.filteredCov + gainT.transpose() *
-                                            (smoothedCov[k + 1] -
-                                             next.predictedCov) *
-                                            gainT;
+    smoothedCov[k] =
+        node.filteredCov +
+        gainT.transpose() * (smoothedCov[k + 1] - next.predictedCov) * gainT;
     symmetrize(smoothedCov[k]);
     if (!smoothed[k].allFinite() || !smoothedCov[k].allFinite()) {
       return FitStatus::eNumericalProblem;
     }
   }
 
-  // Nodes in path order: pass 2 runs against `direction`.
+  // The i-th node in path order (pass 2 ran along the path or against
+  // it).
   auto pathNode = [&](std::size_t i) {
-    return direction > 0 ? nodes.size() - 1 - i : i;
+    return passDirection > 0 ? i : nodes.size() - 1 - i;
   };
   const std::size_t innermost = pathNode(0);
   Propagation ip;
@@ -754,8 +815,13 @@ FitStatus KalmanFitter::fitDirection(std::span<const Hit> hits,
   track.chi2 = pass.chi2;
   track.ndf = 2 * static_cast<int>(pass.used) - 5;
   track.fitted = true;
-  for (std::size_t i = 0; i < n; ++i) {
-    track.outlier[i] = skip[i];
+  // Outliers: every hit not used by the final pass (chi2 outliers,
+  // unreachable surfaces, hits beyond the last used one of pass 2).
+  std::fill(track.outlier.begin(), track.outlier.end(), std::uint8_t{1});
+  for (const Node& node : nodes) {
+    if (node.used) {
+      track.outlier[node.hit] = 0;
+    }
   }
   return FitStatus::eSuccess;
 }
@@ -802,23 +868,36 @@ Track KalmanFitter::fit(std::span<const Hit> hits, const FoundTrack& found,
 
   const int first = found.fitBackward ? -1 : +1;
   Track attempt = track;
-  FitStatus status = fitDirection(hits, found, surfaces, first, attempt);
+  FitStatus status = fitDirection(hits, found, surfaces, first, false, attempt);
   out.firstStatus = status;
-  const bool retry =
-      m_config.retryInverted &&
-      (status != FitStatus::eSuccess ||
-       attempt.numMeasurements() < m_config.maxHitInvertedFit);
+  const bool retry = m_config.retryInverted &&
+                     (status != FitStatus::eSuccess ||
+                      attempt.numMeasurements() < m_config.maxHitInvertedFit);
   if (retry) {
     out.retried = true;
     Track inverted = track;
     const FitStatus second =
-        fitDirection(hits, found, surfaces, -first, inverted);
+        fitDirection(hits, found, surfaces, -first, false, inverted);
     if (second == FitStatus::eSuccess &&
         (status != FitStatus::eSuccess ||
          inverted.numMeasurements() > attempt.numMeasurements())) {
       attempt = std::move(inverted);
       status = second;
       out.inverted = true;
+    }
+  }
+  if (status != FitStatus::eSuccess && m_config.diffuseFallback &&
+      m_config.prefitOmegaFraction > 0.0) {
+    // A wrong hit among the three of the prefit gives a wrong curvature
+    // that the informed start cannot leave: start from "anything".
+    out.diffuse = true;
+    Track diffuse = track;
+    const FitStatus third =
+        fitDirection(hits, found, surfaces, first, true, diffuse);
+    if (third == FitStatus::eSuccess) {
+      attempt = std::move(diffuse);
+      status = third;
+      out.inverted = false;
     }
   }
   out.status = status;
@@ -838,6 +917,9 @@ FittingResult KalmanFitter::run(std::span<const Hit> hits,
     result.tracks.push_back(fit(hits, candidate, &info));
     if (info.retried) {
       ++result.retries;
+    }
+    if (info.diffuse) {
+      ++result.fallbacks;
     }
     if (info.status != FitStatus::eSuccess) {
       ++result.failures;

@@ -45,6 +45,9 @@ struct FitInfo {
   bool retried = false;
   /// True if the result comes from the inverted direction.
   bool inverted = false;
+  /// True if the fully diffuse start was tried (both directions failed
+  /// with the informed one).
+  bool diffuse = false;
 };
 
 /// Counters and output of fitting one event.
@@ -56,6 +59,8 @@ struct FittingResult {
   std::size_t failures = 0;
   /// Candidates refitted in the other direction.
   std::size_t retries = 0;
+  /// Candidates refitted with the fully diffuse start.
+  std::size_t fallbacks = 0;
   /// Hits flagged as outliers on fitted tracks.
   std::size_t outliers = 0;
   /// Wall time of run() [ms].
@@ -67,41 +72,59 @@ struct FittingResult {
 /// Track model (HelixState.hpp): the five LCIO parameters relative to a
 /// pivot that moves with the fit to each surface crossing (KalTest style),
 /// transported with the exact pivot transformation and its analytic
-/// Jacobian; the helix between surfaces is the geometry Helix, the
-/// crossings come from the SurfaceNavigator, as in the simulation.
+/// Jacobian (physics.md 3); between surfaces the trajectory is the
+/// geometry Helix and the crossings come from the SurfaceNavigator, as in
+/// the simulation.
 ///
 /// Per candidate (hits in path order, innermost first for prompt tracks):
-///  1. prefit: the helix through the first, middle and last hit, with the
-///     diffuse diagonal covariance Config::initialVariance;
+///  1. prefit: the helix through the first, middle and last hit
+///     (physics.md 2), at the first hit of the pass, with upstream's
+///     diffuse covariance except sigma(Omega), which is taken relative to
+///     the prefit curvature (Config::prefitOmegaFraction);
 ///  2. filter pass in the first direction (along the path, or against it
-///     for FoundTrack::fitBackward), outliers by the chi2 increment cut;
-///  3. filter pass in the opposite direction started from the end state of
-///     step 2 with its covariance scaled by Config::refitCovarianceScale
-///     (the CMS "error rescaling" of KFFittingSmoother: the diffuse prior
-///     of step 2 leaves the first states nearly singular, which would make
-///     an RTS smoother ill-conditioned), then the RTS smoother (Frühwirth,
-///     NIM A262 (1987) 444, eq. 19-21) over the nodes of step 3;
-///  4. the smoothed state at the innermost hit propagated to the PCA to the
-///     z axis (reference = origin), through the material in between.
-/// If step 2-4 fail, they are retried in the other direction (paper 4.2,
-/// upstream MaxHitInvertedFit).
+///     for FoundTrack::fitBackward), hits with a chi2 increment above
+///     Config::maxChi2Increment flagged as outliers, hits whose surface the
+///     predicted track does not reach skipped;
+///  3. filter pass in the opposite direction, started from the end of
+///     pass 2 with its covariance scaled by Config::refitCovarianceScale
+///     (the "error rescaling" of CMS's KFFittingSmoother: a smoother over
+///     pass 2 itself would invert the nearly singular predicted
+///     covariances of its first, prior-dominated nodes), then the
+///     Rauch-Tung-Striebel smoother (Frühwirth, NIM A262 (1987) 444,
+///     eq. 19-21) over the nodes of pass 3;
+///  4. the smoothed state at the innermost node propagated to the PCA to
+///     the z axis (reference = origin; the PCA within half a turn of the
+///     innermost hit), with the material crossed on the way (beam pipe) as
+///     process noise and energy-loss correction.
+/// If 1-4 fail, they are retried in the other direction (paper 4.2,
+/// upstream MaxHitInvertedFit), then once with the fully diffuse start
+/// (Config::diffuseFallback).
 ///
 /// Measurements: 2-D in the hit's local frame; barrel (u, v) = (R phi, z)
-/// with u the arc on the layer cylinder, disk u and v the projections on the
-/// hit's tangential and radial axes. The measurement matrix includes the
-/// shift of the crossing point along the track when d0 and z0 change
-/// (the crossing geometry), (1 - t g^T / (g . t)) dX/da, g the surface
-/// normal and t the direction.
+/// with u the arc on the layer cylinder (as the smearing), disk u and v
+/// the projections on the hit's tangential and radial axes. The
+/// measurement matrix includes the shift of the crossing point along the
+/// track when d0 or z0 change, dX/da = (1 - t g^T / (g . t)) dX/da|_s, g
+/// the surface normal and t the direction. The update is iterated (IEKF,
+/// Gauss-Newton on the node's chi2, a step accepted only if it lowers it)
+/// where the exact crossing deviates from the linear model, which matters
+/// near tangent crossings of a layer (low pT) and after long
+/// extrapolations; the covariance update is in Joseph form.
 ///
 /// Material, at every crossed surface (sensitive with or without a hit,
 /// passive), as Simulator: x/X0 = t/|cos alpha| with the same caps,
-/// Highland (Rossi-Greisen for electrons) theta0 as process noise on phi0
-/// (theta0^2 / cos^2 lambda) and on lambda (theta0^2, mapped to tanLambda
-/// and to Omega at fixed p), and the Bethe mean loss as a correction of
-/// Omega (lost along the motion, added back against it). Node states are
+/// Highland (Rossi-Greisen for electrons) theta0 (physics.md 4) with the
+/// momentum before the loss, as process noise on phi0 (theta0^2 /
+/// cos^2 lambda) and on lambda (theta0^2, mapped to tanLambda and, at fixed
+/// p, to Omega), and the Bethe mean loss (physics.md 5) as a correction of
+/// Omega, lost along the motion and added back against it. Node states are
 /// on the inner side of the node's material (the side the particle comes
-/// from), so the smoothed innermost state needs only the material between
-/// it and the IP.
+/// from): along the motion a node's material is applied after its update,
+/// against it before.
+///
+/// Electrons: Rossi-Greisen scattering and the Bethe loss only; the
+/// bremsstrahlung of the simulation is not modelled (a Gaussian-sum filter
+/// would be needed).
 ///
 /// Thread-safe: fit() and run() are const and keep no state.
 class KalmanFitter {
@@ -134,6 +157,10 @@ class KalmanFitter {
     double prefitOmegaFraction = 0.3;
     /// Floor of the initial sigma(Omega) [1/mm] (pT = 120 GeV at 4 T).
     double prefitOmegaFloor = 1e-5 / units::mm;
+    /// If the fit fails in both directions with the informed start, try
+    /// once more with initialVariance (a wrong hit among the three of the
+    /// prefit).
+    bool diffuseFallback = true;
     /// Covariance scale of the start of the second pass (CMS uses 100):
     /// the second pass counts the first pass's information with weight
     /// 1/scale, i.e. covariances come out 1/(1 + 1/scale) too small.
@@ -144,10 +171,6 @@ class KalmanFitter {
     /// resolution, which takes one evaluation except near tangent
     /// crossings.
     unsigned maxUpdateIterations = 5;
-    /// Filter passes after the second one (each from the end of the last,
-    /// alternating in direction): re-linearisation around a better
-    /// trajectory.
-    unsigned extraPasses = 0;
     /// Minimum number of hits used in the fit (ndf = 2 n - 5 >= 1); upstream
     /// MinClustersOnTrackAfterFit = 3.
     std::uint32_t minHits = 3;
@@ -198,17 +221,17 @@ class KalmanFitter {
   struct Node;
   struct Propagation;
 
-  /// Fits in one first direction (+1 along the hit order, -1 against).
+  /// Fits in one first direction (+1 along the hit order, -1 against),
+  /// with the informed or the fully diffuse start.
   FitStatus fitDirection(std::span<const Hit> hits, const FoundTrack& found,
                          const std::vector<std::uint32_t>& surfaces,
-                         int direction, Track& track) const;
+                         int direction, bool diffuse, Track& track) const;
   /// One filter pass over the hits in `order` (indices into found.hits).
   FitStatus filter(std::span<const Hit> hits, const FoundTrack& found,
                    const std::vector<std::uint32_t>& surfaces,
                    const std::vector<std::uint32_t>& order, int direction,
                    const HelixState& start, const TrackCovariance& startCov,
-                   bool materialAtFirstNode, std::vector<std::uint8_t>& skip,
-                   Pass& pass) const;
+                   std::vector<std::uint8_t>& skip, Pass& pass) const;
   /// Propagates from the current node towards the surface `target`,
   /// applying the material of every surface crossed.
   FitStatus propagateToSurface(Propagation& state, int direction,
@@ -217,12 +240,19 @@ class KalmanFitter {
   /// Propagates the state at the innermost node (inner side of the
   /// surface `fromSurface`) to the PCA to the z axis.
   FitStatus propagateToIp(Propagation& state, std::uint32_t fromSurface) const;
+  /// Measurement update at a node (iterated where non-linear): the
+  /// filtered state and the chi2 increment.
+  FitStatus update(const Hit& hit, const NavigationSurface& layer,
+                   const Vector3& pivot, const TrackVector& x0,
+                   const TrackCovariance& c0, TrackVector& x,
+                   TrackCovariance& c, double& chi2) const;
   /// The state re-expressed at the crossing of its helix with `surface`
   /// nearest to its PCA, with the Jacobian of the move.
   FitStatus crossing(const HelixState& state, const NavigationSurface& surface,
                      HelixState& moved, TrackJacobian& jacobian) const;
   /// Moves the pivot of `state` to the crossing of its helix with
-  /// `surface` nearest to the PCA (no-op if already there).
+  /// `surface` nearest to the PCA (no-op if already there or if the helix
+  /// does not reach the surface).
   FitStatus moveToCrossing(Propagation& state,
                            const NavigationSurface& surface) const;
   /// Applies the material of surface `surface` crossed at the pivot.

@@ -1,0 +1,87 @@
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/Log.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/TrackFiles.hpp"
+#include "conftrack/io/TrackmlReader.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "Commands.hpp"
+#include "EventLoop.hpp"
+#include "ReconstructionOptions.hpp"
+
+namespace conftrack::cli {
+
+namespace {
+
+struct ReconstructOptions {
+  ReconstructionOptions reco;
+  std::string input;
+  std::string output = "tracks";
+  std::size_t threads = 0;
+  bool gzip = false;
+};
+
+struct EventReport {
+  std::size_t hits = 0;
+  std::size_t tracks = 0;
+  double findingMs = 0.0;
+  double fittingMs = 0.0;
+};
+
+void runReconstruct(const ReconstructOptions& opt) {
+  Detector detector = loadDetector(opt.reco.detector);
+  Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
+  std::vector<std::uint64_t> events = listEvents(opt.input);
+  if (events.empty()) {
+    throw InputError(opt.input, "no event files (eventNNNNNNNNN-hits.csv)");
+  }
+  std::filesystem::create_directories(opt.output);
+  std::vector<EventReport> reports(events.size());
+  forEachEvent(events.size(), opt.threads, "reconstruct", [&](std::size_t i) {
+    Event event =
+        readEvent(opt.input, events[i], &detector, ReadOptions{false, false});
+    Reconstruction::Result r = reco.run(event.hits);
+    WriteOptions wo;
+    wo.gzip = opt.gzip;
+    writeTracks(opt.output, events[i], event.hits, r.tracks, wo);
+    reports[i] = {event.hits.size(), r.tracks.size(), r.findingMs, r.fittingMs};
+  });
+  EventReport total;
+  for (const EventReport& e : reports) {
+    total.hits += e.hits;
+    total.tracks += e.tracks;
+    total.findingMs += e.findingMs;
+    total.fittingMs += e.fittingMs;
+  }
+  double n = static_cast<double>(events.size());
+  std::printf(
+      "%zu events: %.1f hits and %.1f tracks per event; finding %.1f ms, "
+      "fitting %.1f ms per event; tracks in %s\n",
+      events.size(), total.hits / n, total.tracks / n, total.findingMs / n,
+      total.fittingMs / n, opt.output.c_str());
+}
+
+}  // namespace
+
+void addReconstructCommand(CLI::App& app) {
+  auto opt = std::make_shared<ReconstructOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "reconstruct",
+      "Find, fit and select tracks in TrackML-format events; write track "
+      "files");
+  cmd->add_option("-i,--input", opt->input, "Folder with event files")
+      ->required();
+  cmd->add_option("-o,--output", opt->output, "Output folder")
+      ->capture_default_str();
+  addReconstructionOptions(*cmd, opt->reco);
+  addThreadsOption(*cmd, opt->threads);
+  cmd->add_flag("--gzip", opt->gzip, "Write .csv.gz files");
+  cmd->callback([opt]() { runReconstruct(*opt); });
+}
+
+}  // namespace conftrack::cli

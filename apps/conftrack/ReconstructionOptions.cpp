@@ -1,0 +1,34 @@
+#include "ReconstructionOptions.hpp"
+
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+
+#include <filesystem>
+
+namespace conftrack::cli {
+
+void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& o) {
+  cmd.add_option("--detector", o.detector, "Detector name or TOML file")
+      ->capture_default_str();
+  cmd.add_option("--chain", o.chain,
+                 "Finding chain name or TOML file (default: the detector's)");
+  cmd.add_flag("--no-fit", o.noFit, "Finding only, no Kalman fit");
+  cmd.add_option("--fit-pdg", o.fitPdg,
+                 "Mass hypothesis of the fit (PDG code: 211, 13, 11, ...)")
+      ->capture_default_str();
+}
+
+Reconstruction::Config makeReconstructionConfig(const ReconstructionOptions& o,
+                                                const Detector& detector) {
+  Reconstruction::Config c;
+  std::string chain = o.chain;
+  if (chain.empty()) {
+    // The shipped chain of a shipped detector has the detector's file name.
+    chain = std::filesystem::path(o.detector).stem().string();
+  }
+  c.chain = readChain(resolveChainPath(chain), detector);
+  c.fit = !o.noFit;
+  c.fitter.pdg = o.fitPdg;
+  return c;
+}
+
+}  // namespace conftrack::cli

@@ -1,0 +1,60 @@
+#pragma once
+
+/// @file Reconstruction.hpp
+/// The whole reconstruction of one event: conformal finding, Kalman
+/// fitting and track selection (paper section 4). Truth is never used.
+
+#include "conftrack/core/Hit.hpp"
+#include "conftrack/geometry/Detector.hpp"
+#include "conftrack/reconstruction/Track.hpp"
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
+#include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
+#include "conftrack/reconstruction/selection/TrackSelector.hpp"
+
+#include <span>
+#include <vector>
+
+namespace conftrack {
+
+class Reconstruction {
+ public:
+  struct Config {
+    /// Finding chain (chains/<detector>.toml).
+    FinderConfig chain;
+    KalmanFitter::Config fitter;
+    TrackSelector::Config selector;
+    /// Fit the candidates; without it the tracks carry only the finder's
+    /// estimates and the selection keeps unfitted tracks.
+    bool fit = true;
+  };
+
+  /// Output of one event.
+  struct Result {
+    std::vector<Track> tracks;
+    /// Per finding step: counters and time.
+    std::vector<StepStats> steps;
+    std::size_t candidates = 0;
+    std::size_t fitFailures = 0;
+    double findingMs = 0.0;
+    double fittingMs = 0.0;
+    double selectionMs = 0.0;
+  };
+
+  Reconstruction(const Detector& detector, Config config);
+
+  /// Reconstructs the tracks of one event. Thread-safe (const).
+  Result run(std::span<const Hit> hits) const;
+
+  const Config& config() const { return m_config; }
+
+ private:
+  Config m_config;
+  ConformalTrackFinder m_finder;
+  KalmanFitter m_fitter;
+  TrackSelector m_selector;
+};
+
+/// Track with only the finder's information (no fit).
+Track unfittedTrack(const FoundTrack& found);
+
+}  // namespace conftrack

@@ -1,0 +1,759 @@
+#include "conftrack/geometry/TrackmlDetector.hpp"
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+namespace conftrack {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// ---------------------------------------------------------------------------
+// CSV parsing. The geometry module has no gzip or CSV reader of its own (they
+// live in io, which depends on geometry), so a minimal strict one is here.
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
+    s.remove_prefix(1);
+  }
+  while (!s.empty() &&
+         (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
+    s.remove_suffix(1);
+  }
+  return s;
+}
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    std::size_t comma = line.find(',', start);
+    fields.push_back(trim(line.substr(start, comma - start)));
+    if (comma == std::string_view::npos) {
+      break;
+    }
+    start = comma + 1;
+  }
+  return fields;
+}
+
+class ModuleCsv {
+ public:
+  ModuleCsv(std::string_view text, const std::string& source)
+      : m_text(text), m_source(source) {}
+
+  std::vector<TrackmlModule> parse() {
+    if (!nextLine()) {
+      throw InputError(location(m_source), "empty file (no header line)");
+    }
+    m_header = splitFields(m_line);
+    const std::size_t cVolume = column("volume_id");
+    const std::size_t cLayer = column("layer_id");
+    const std::size_t cModule = column("module_id");
+    const std::array<std::size_t, 3> cCenter = {column("cx"), column("cy"),
+                                                column("cz")};
+    static constexpr std::array<std::array<const char*, 3>, 3> kRot = {
+        {{"rot_xu", "rot_xv", "rot_xw"},
+         {"rot_yu", "rot_yv", "rot_yw"},
+         {"rot_zu", "rot_zv", "rot_zw"}}};
+    std::array<std::array<std::size_t, 3>, 3> cRot{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      for (std::size_t j = 0; j < 3; ++j) {
+        cRot[i][j] = column(kRot[i][j]);
+      }
+    }
+    const std::size_t cT = column("module_t");
+    const std::size_t cMinHu = column("module_minhu");
+    const std::size_t cMaxHu = column("module_maxhu");
+    const std::size_t cHv = column("module_hv");
+    const std::size_t cPitchU = column("pitch_u");
+    const std::size_t cPitchV = column("pitch_v");
+
+    std::vector<TrackmlModule> modules;
+    std::set<std::array<std::uint32_t, 3>> seen;
+    while (nextLine()) {
+      m_fields = splitFields(m_line);
+      if (m_fields.size() != m_header.size()) {
+        fail(std::to_string(m_fields.size()) + " fields, the header has " +
+             std::to_string(m_header.size()));
+      }
+      TrackmlModule& m = modules.emplace_back();
+      m.volume = integer(cVolume);
+      m.layer = integer(cLayer);
+      m.module = integer(cModule);
+      if (!seen.insert({m.volume, m.layer, m.module}).second) {
+        fail("duplicate module (volume_id, layer_id, module_id) = (" +
+             std::to_string(m.volume) + ", " + std::to_string(m.layer) + ", " +
+             std::to_string(m.module) + ")");
+      }
+      for (std::size_t i = 0; i < 3; ++i) {
+        m.center[static_cast<Eigen::Index>(i)] = number(cCenter[i]) * units::mm;
+        for (std::size_t j = 0; j < 3; ++j) {
+          m.rotation(static_cast<Eigen::Index>(i),
+                     static_cast<Eigen::Index>(j)) = number(cRot[i][j]);
+        }
+      }
+      m.thickness = positive(cT) * units::mm;
+      m.minHalfU = positive(cMinHu) * units::mm;
+      m.maxHalfU = positive(cMaxHu) * units::mm;
+      m.halfV = positive(cHv) * units::mm;
+      m.pitchU = positive(cPitchU) * units::mm;
+      m.pitchV = positive(cPitchV) * units::mm;
+      // A rotation must be orthonormal, else local coordinates are
+      // meaningless; 1e-3 accepts the 6 printed digits.
+      if (!(m.rotation.transpose() * m.rotation)
+               .isApprox(Matrix3::Identity(), 1e-3)) {
+        fail("the rotation matrix (rot_*) is not orthonormal");
+      }
+    }
+    if (modules.empty()) {
+      throw InputError(location(m_source), "no modules (header line only)");
+    }
+    return modules;
+  }
+
+ private:
+  bool nextLine() {
+    while (m_pos < m_text.size()) {
+      std::size_t end = m_text.find('\n', m_pos);
+      if (end == std::string_view::npos) {
+        end = m_text.size();
+      }
+      m_line = trim(m_text.substr(m_pos, end - m_pos));
+      m_pos = end + 1;
+      ++m_lineNumber;
+      if (!m_line.empty()) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  std::size_t column(std::string_view name) const {
+    auto it = std::find(m_header.begin(), m_header.end(), name);
+    if (it == m_header.end()) {
+      throw InputError(location(m_source, 1),
+                       "missing column '" + std::string(name) + "'");
+    }
+    return static_cast<std::size_t>(it - m_header.begin());
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(location(m_source, m_lineNumber), what);
+  }
+
+  [[noreturn]] void failField(std::size_t c, const std::string& what) const {
+    fail("column '" + std::string(m_header[c]) + "': '" +
+         std::string(m_fields[c]) + "' " + what);
+  }
+
+  std::uint32_t integer(std::size_t c) const {
+    std::string_view s = m_fields[c];
+    std::uint32_t value = 0;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (s.empty() || ec != std::errc{} || ptr != s.data() + s.size()) {
+      failField(c, "is not a non-negative 32-bit integer");
+    }
+    return value;
+  }
+
+  double number(std::size_t c) const {
+    std::string_view s = m_fields[c];
+    double value = 0.0;
+    auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (s.empty() || ec != std::errc{} || ptr != s.data() + s.size()) {
+      failField(c, "is not a number");
+    }
+    if (!std::isfinite(value)) {
+      failField(c, "is not finite");
+    }
+    return value;
+  }
+
+  double positive(std::size_t c) const {
+    double value = number(c);
+    if (!(value > 0.0)) {
+      failField(c, "must be positive");
+    }
+    return value;
+  }
+
+  std::string_view m_text;
+  const std::string& m_source;
+  std::size_t m_pos = 0;
+  std::size_t m_lineNumber = 0;
+  std::string_view m_line;
+  std::vector<std::string_view> m_header;
+  std::vector<std::string_view> m_fields;
+};
+
+// ---------------------------------------------------------------------------
+// Geometry helpers.
+
+/// A module lies in a disk (its normal along z) or on a barrel.
+bool isDiskModule(const TrackmlModule& m) {
+  return std::abs(m.rotation(2, 2)) > 0.5;
+}
+
+double moduleArea(const TrackmlModule& m) {
+  return (m.minHalfU + m.maxHalfU) * 2.0 * m.halfV;
+}
+
+/// Distance of the z axis from the module in the transverse plane (disk
+/// modules): 0 if the module covers the axis, else the nearest edge.
+double minRadius(const TrackmlModule& m) {
+  std::array<Vector3, 4> c = m.corners();
+  double best = std::numeric_limits<double>::infinity();
+  int nLeft = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Vector2 a = c[i].head<2>();
+    const Vector2 ab = c[(i + 1) % 4].head<2>() - a;
+    const double t = std::clamp(-a.dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (a + t * ab).norm());
+    // The origin is inside the convex polygon iff it lies on the same side
+    // of all four edges.
+    nLeft += (ab.x() * a.y() - ab.y() * a.x()) < 0.0 ? 1 : 0;
+  }
+  return (nLeft == 0 || nLeft == 4) ? 0.0 : best;
+}
+
+double maxRadius(const TrackmlModule& m) {
+  double best = 0.0;
+  for (const Vector3& c : m.corners()) {
+    best = std::max(best, c.head<2>().norm());
+  }
+  return best;
+}
+
+double wrapPhi(double phi) {
+  while (phi > kPi) {
+    phi -= 2.0 * kPi;
+  }
+  while (phi < -kPi) {
+    phi += 2.0 * kPi;
+  }
+  return phi;
+}
+
+/// Number of distinct values, merging values closer than `tolerance`.
+template <typename Key>
+std::map<long long, std::uint32_t> countRows(
+    const std::vector<const TrackmlModule*>& ms, Key key, double tolerance) {
+  std::map<long long, std::uint32_t> rows;
+  for (const TrackmlModule* m : ms) {
+    ++rows[std::llround(key(*m) / tolerance)];
+  }
+  return rows;
+}
+
+// ---------------------------------------------------------------------------
+// TOML writing.
+
+/// A double rounded to `decimals` in TOML float syntax (always with a '.').
+std::string fmt(double value, int decimals) {
+  double scale = std::pow(10.0, decimals);
+  double rounded = std::round(value * scale) / scale;
+  if (rounded == 0.0) {
+    rounded = 0.0;  // no "-0"
+  }
+  char buffer[64];
+  auto [ptr, ec] = std::to_chars(buffer, buffer + sizeof buffer, rounded);
+  std::string s(buffer, ptr);
+  if (s.find_first_of(".e") == std::string::npos) {
+    s += ".0";
+  }
+  return s;
+}
+
+struct SubdetectorSpec {
+  const char* name;
+  const char* prefix;
+  bool barrel;
+  std::uint32_t volumeNeg;  // barrel: the volume
+  std::uint32_t volumePos;
+};
+
+/// The TrackML volumes: pixels, short strips, long strips.
+constexpr std::array<SubdetectorSpec, 6> kSubdetectors = {{
+    {"PixelBarrel", "PXB", true, 8, 8},
+    {"PixelEndcap", "PXE", false, 7, 9},
+    {"ShortStripBarrel", "SSB", true, 13, 13},
+    {"ShortStripEndcap", "SSE", false, 12, 14},
+    {"LongStripBarrel", "LSB", true, 17, 17},
+    {"LongStripEndcap", "LSE", false, 16, 18},
+}};
+
+/// One conftrack layer (an endcap layer covers both sides).
+struct PlannedLayer {
+  std::string name;
+  double position = 0.0;  // r (barrel) or |z| (disk)
+  double halfZ = 0.0;
+  double rMin = 0.0;
+  double rMax = 0.0;
+  double xOverX0 = 0.0;
+  double sigmaU = 0.0;
+  double sigmaV = 0.0;
+  std::uint32_t nPhi = 1;
+  std::uint32_t nSlow = 1;
+  std::uint32_t trackmlLayer = 0;     // positive side (or barrel)
+  std::uint32_t trackmlLayerNeg = 0;  // negative side (endcaps)
+  std::size_t nModules = 0;           // per side
+};
+
+struct PlannedSubdetector {
+  const SubdetectorSpec* spec = nullptr;
+  std::vector<PlannedLayer> layers;
+};
+
+struct Plan {
+  std::vector<PlannedSubdetector> subdetectors;
+  double envelopeR = 0.0;
+  double envelopeZ = 0.0;
+};
+
+const SubdetectorSpec* specOfVolume(std::uint32_t volume) {
+  for (const SubdetectorSpec& s : kSubdetectors) {
+    if (s.volumeNeg == volume || s.volumePos == volume) {
+      return &s;
+    }
+  }
+  return nullptr;
+}
+
+Plan planDetector(const std::vector<TrackmlModule>& modules,
+                  const TrackmlDetectorOptions& options) {
+  Plan plan;
+  double maxR = 0.0;
+  double maxZ = 0.0;
+  for (const TrackmlModule& m : modules) {
+    if (specOfVolume(m.volume) == nullptr) {
+      throw InputError(location(options.source),
+                       "volume_id " + std::to_string(m.volume) +
+                           " is not a TrackML volume (7, 8, 9, 12, 13, 14, "
+                           "16, 17, 18)");
+    }
+    maxR = std::max(maxR, maxRadius(m));
+    for (const Vector3& c : m.corners()) {
+      maxZ = std::max(maxZ, std::abs(c.z()) + 0.5 * m.thickness);
+    }
+  }
+  // One millimetre beyond the outermost module corner: the simulation stops
+  // at the envelope and must not cut the last layers.
+  plan.envelopeR = std::ceil(maxR) + 1.0;
+  plan.envelopeZ = std::ceil(maxZ) + 1.0;
+
+  std::vector<TrackmlLayerSummary> summaries = summarizeTrackmlLayers(modules);
+  auto byVolume = [&](std::uint32_t volume) {
+    std::vector<TrackmlLayerSummary> out;
+    for (const TrackmlLayerSummary& s : summaries) {
+      if (s.volume == volume) {
+        out.push_back(s);
+      }
+    }
+    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+      return a.position < b.position;
+    });
+    return out;
+  };
+  auto material = [&](const TrackmlLayerSummary& s) {
+    double x = s.coverage * s.thickness / options.moduleX0;
+    if (options.supportThickness > 0.0) {
+      x += options.supportThickness / options.supportX0;
+    }
+    return x;
+  };
+  const double sqrt12 = std::sqrt(12.0);
+  auto segment = [](PlannedLayer& l, std::uint32_t nPhi,
+                    std::uint32_t maxModuleId) {
+    // TrackML ids run 1..N; conftrack needs id < nPhi * nSlow.
+    l.nPhi = std::max<std::uint32_t>(nPhi, 1);
+    l.nSlow = maxModuleId / l.nPhi + 1;
+  };
+
+  for (const SubdetectorSpec& spec : kSubdetectors) {
+    PlannedSubdetector sub;
+    sub.spec = &spec;
+    if (spec.barrel) {
+      std::vector<TrackmlLayerSummary> layers = byVolume(spec.volumePos);
+      for (std::size_t i = 0; i < layers.size(); ++i) {
+        const TrackmlLayerSummary& s = layers[i];
+        if (!s.barrel) {
+          throw InputError(location(options.source),
+                           "volume " + std::to_string(s.volume) + " layer " +
+                               std::to_string(s.layer) +
+                               ": disk modules in a barrel volume");
+        }
+        PlannedLayer l;
+        l.name = std::string(spec.prefix) + "_L" + std::to_string(i);
+        l.position = s.position;
+        l.halfZ = s.halfZ;
+        l.xOverX0 = material(s);
+        l.sigmaU = s.pitchU / sqrt12;
+        l.sigmaV = s.pitchV / sqrt12;
+        segment(l, s.nPhi, s.maxModuleId);
+        l.trackmlLayer = l.trackmlLayerNeg = s.layer;
+        l.nModules = s.nModules;
+        sub.layers.push_back(l);
+      }
+    } else {
+      std::vector<TrackmlLayerSummary> neg = byVolume(spec.volumeNeg);
+      std::vector<TrackmlLayerSummary> pos = byVolume(spec.volumePos);
+      if (neg.size() != pos.size()) {
+        throw InputError(location(options.source),
+                         "endcap volumes " + std::to_string(spec.volumeNeg) +
+                             " and " + std::to_string(spec.volumePos) +
+                             " have different numbers of layers (" +
+                             std::to_string(neg.size()) + ", " +
+                             std::to_string(pos.size()) +
+                             "); conftrack endcaps are mirror-symmetric");
+      }
+      for (std::size_t i = 0; i < pos.size(); ++i) {
+        const TrackmlLayerSummary& n = neg[i];
+        const TrackmlLayerSummary& p = pos[i];
+        // Sides must mirror each other (1 mm: the module staggering is
+        // +-2.5..5.5 mm around the same mean on both sides).
+        if (n.barrel || p.barrel || !(n.meanZ < 0.0 && p.meanZ > 0.0) ||
+            std::abs(n.position - p.position) > 1.0 * units::mm) {
+          throw InputError(
+              location(options.source),
+              "endcap layers (" + std::to_string(n.volume) + ", " +
+                  std::to_string(n.layer) + ") at z = " + fmt(n.meanZ, 3) +
+                  " mm and (" + std::to_string(p.volume) + ", " +
+                  std::to_string(p.layer) + ") at z = " + fmt(p.meanZ, 3) +
+                  " mm are not mirror images (negative side at z < 0, "
+                  "|z| within 1 mm)");
+        }
+        PlannedLayer l;
+        l.name = std::string(spec.prefix) + "_D" + std::to_string(i);
+        l.position = 0.5 * (n.position + p.position);
+        l.rMin = std::min(n.rMin, p.rMin);
+        l.rMax = std::max(n.rMax, p.rMax);
+        l.xOverX0 = 0.5 * (material(n) + material(p));
+        l.sigmaU = 0.5 * (n.pitchU + p.pitchU) / sqrt12;
+        l.sigmaV = 0.5 * (n.pitchV + p.pitchV) / sqrt12;
+        segment(l, std::max(n.nPhi, p.nPhi),
+                std::max(n.maxModuleId, p.maxModuleId));
+        l.trackmlLayer = p.layer;
+        l.trackmlLayerNeg = n.layer;
+        l.nModules = p.nModules;
+        sub.layers.push_back(l);
+      }
+    }
+    if (!sub.layers.empty()) {
+      plan.subdetectors.push_back(std::move(sub));
+    }
+  }
+  return plan;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+
+double TrackmlModule::halfUAt(double v) const {
+  double f = std::clamp((v + halfV) / (2.0 * halfV), 0.0, 1.0);
+  return minHalfU + f * (maxHalfU - minHalfU);
+}
+
+std::array<Vector3, 4> TrackmlModule::corners() const {
+  const Vector3 u = rotation.col(0);
+  const Vector3 v = rotation.col(1);
+  return {center - minHalfU * u - halfV * v, center + minHalfU * u - halfV * v,
+          center + maxHalfU * u + halfV * v, center - maxHalfU * u + halfV * v};
+}
+
+Vector3 TrackmlModule::toLocal(const Vector3& global) const {
+  return rotation.transpose() * (global - center);
+}
+
+std::vector<TrackmlModule> parseTrackmlModules(std::string_view csvText,
+                                               const std::string& sourceName) {
+  return ModuleCsv(csvText, sourceName).parse();
+}
+
+std::vector<TrackmlLayerSummary> summarizeTrackmlLayers(
+    const std::vector<TrackmlModule>& modules) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>,
+           std::vector<const TrackmlModule*>>
+      groups;
+  for (const TrackmlModule& m : modules) {
+    groups[{m.volume, m.layer}].push_back(&m);
+  }
+  std::vector<TrackmlLayerSummary> out;
+  for (const auto& [key, ms] : groups) {
+    TrackmlLayerSummary s;
+    s.volume = key.first;
+    s.layer = key.second;
+    s.nModules = ms.size();
+    // The layer is a disk if most of its modules are.
+    std::size_t nDisk = static_cast<std::size_t>(
+        std::count_if(ms.begin(), ms.end(),
+                      [](const TrackmlModule* m) { return isDiskModule(*m); }));
+    s.barrel = 2 * nDisk < ms.size();
+    const double n = static_cast<double>(ms.size());
+    double area = 0.0;
+    s.rMin = std::numeric_limits<double>::infinity();
+    s.rMax = 0.0;
+    for (const TrackmlModule* m : ms) {
+      s.maxModuleId = std::max(s.maxModuleId, m->module);
+      s.thickness += m->thickness / n;
+      s.pitchU += m->pitchU / n;
+      s.pitchV += m->pitchV / n;
+      s.meanZ += m->center.z() / n;
+      area += moduleArea(*m);
+      const double rc = m->center.head<2>().norm();
+      if (s.barrel) {
+        s.position += rc / n;
+        s.halfZ = std::max(s.halfZ, std::abs(m->center.z()) + m->halfV);
+        s.rMin = std::min(s.rMin, rc);
+        s.rMax = std::max(s.rMax, rc);
+      } else {
+        s.rMin = std::min(s.rMin, minRadius(*m));
+        s.rMax = std::max(s.rMax, maxRadius(*m));
+      }
+    }
+    // Rows: module centres closer than 1 mm in z (barrel) or radius (disk)
+    // belong to one row; staggering is well below the row spacing.
+    std::map<long long, std::uint32_t> rows =
+        s.barrel ? countRows(
+                       ms, [](const TrackmlModule& m) { return m.center.z(); },
+                       1.0 * units::mm)
+                 : countRows(
+                       ms,
+                       [](const TrackmlModule& m) {
+                         return m.center.head<2>().norm();
+                       },
+                       1.0 * units::mm);
+    s.nRows = static_cast<std::uint32_t>(rows.size());
+    for (const auto& [k, count] : rows) {
+      s.nPhi = std::max(s.nPhi, count);
+    }
+    if (s.barrel) {
+      s.coverage = area / (2.0 * kPi * s.position * 2.0 * s.halfZ);
+    } else {
+      s.position = std::abs(s.meanZ);
+      s.coverage = area / (kPi * (s.rMax * s.rMax - s.rMin * s.rMin));
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::string buildTrackmlDetectorToml(const std::vector<TrackmlModule>& modules,
+                                     const TrackmlDetectorOptions& options) {
+  Plan plan = planDetector(modules, options);
+  std::ostringstream o;
+  o << "# TrackML challenge detector (Kaggle 2018): conftrack detector file.\n"
+    << "# Generated from " << options.source << " by buildTrackmlDetectorToml\n"
+    << "# (src/geometry/TrackmlDetector.cpp; `conftrack detector "
+       "import-trackml`). Do not edit:\n"
+    << "# regenerate. Units are in the key names (_mm, _um, _T).\n"
+    << "# - Barrel layers: cylinders at the mean module-centre radius, half "
+       "length\n"
+    << "#   max |cz| + module half length (staggering and tilts "
+       "ignored).\n"
+    << "# - Disks: at the mean module-centre |z| of both sides; r range "
+       "from the\n"
+    << "#   module corners.\n"
+    << "# - sigma = pitch / sqrt(12) along u (r-phi) and v (z on barrels, r "
+       "on disks),\n"
+    << "#   also for the strip volumes 12-18, whose Kaggle hits sit on "
+       "pitch_v cells.\n"
+    << "# - x_over_x0 = module coverage * t / " << fmt(options.moduleX0, 3)
+    << " mm (silicon)";
+  if (options.supportThickness > 0.0) {
+    o << " + " << fmt(options.supportThickness, 3) << " mm / "
+      << fmt(options.supportX0, 3)
+      << " mm\n#   support per layer (ACTS TrackML configuration, "
+         "GenericDetectorML.ipp).\n";
+  } else {
+    o << ".\n";
+  }
+  o << "# - Module ids: TrackML module_id 1..N; n_phi_modules = modules per "
+       "phi ring,\n"
+    << "#   n_z_modules / n_rings = smallest count with n_phi * n > N.\n"
+    << "# - trackml_layer is the TrackML layer_id; on endcaps that of the "
+       "+z side\n"
+    << "#   (TrackML numbers endcap layers by increasing z on both sides: "
+       "the -z side\n"
+    << "#   id is 2 * (n_layers + 1) - trackml_layer"
+    << (options.perSideLayerIds ? ", written as trackml_layer_neg).\n"
+                                : "; buildTrackmlDetector() applies it).\n")
+    << "\n[detector]\n"
+    << "name = \"TrackML\"\n"
+    << "model = \"TrackML_Kaggle_2018\"\n"
+    << "bz_T = 2.0\n"
+    << "envelope_r_mm = " << fmt(plan.envelopeR, 3) << "\n"
+    << "envelope_z_mm = " << fmt(plan.envelopeZ, 3) << "\n";
+  for (const PlannedSubdetector& sub : plan.subdetectors) {
+    const SubdetectorSpec& spec = *sub.spec;
+    o << "\n[[subdetector]]\n"
+      << "name = \"" << spec.name << "\"\n"
+      << "kind = \"" << (spec.barrel ? "barrel" : "endcap") << "\"\n";
+    if (spec.barrel) {
+      o << "trackml_volume = " << spec.volumePos << "\n";
+    } else {
+      o << "trackml_volumes = [" << spec.volumeNeg << ", " << spec.volumePos
+        << "]  # -z, +z\n";
+    }
+    for (const PlannedLayer& l : sub.layers) {
+      o << "\n  [[subdetector.layer]]\n"
+        << "  name = \"" << l.name << "\"\n";
+      if (spec.barrel) {
+        o << "  r_mm = " << fmt(l.position, 3) << "\n"
+          << "  half_z_mm = " << fmt(l.halfZ, 3) << "\n";
+      } else {
+        o << "  z_mm = " << fmt(l.position, 3) << "\n"
+          << "  r_min_mm = " << fmt(l.rMin, 3) << "\n"
+          << "  r_max_mm = " << fmt(l.rMax, 3) << "\n";
+      }
+      o << "  x_over_x0 = " << fmt(l.xOverX0, 6) << "\n"
+        << "  sigma_rphi_um = " << fmt(l.sigmaU / units::um, 2) << "\n"
+        << (spec.barrel ? "  sigma_z_um = " : "  sigma_r_um = ")
+        << fmt(l.sigmaV / units::um, 2) << "\n"
+        << "  n_phi_modules = " << l.nPhi << "\n"
+        << (spec.barrel ? "  n_z_modules = " : "  n_rings = ") << l.nSlow
+        << "  # " << l.nModules << " modules"
+        << (spec.barrel ? "" : " per side") << "\n"
+        << "  trackml_layer = " << l.trackmlLayer << "\n";
+      if (!spec.barrel && options.perSideLayerIds &&
+          l.trackmlLayerNeg != l.trackmlLayer) {
+        o << "  trackml_layer_neg = " << l.trackmlLayerNeg << "\n";
+      }
+    }
+  }
+  if (options.passives) {
+    // ACTS TrackML configuration: beryllium (X0 = 352.8 mm) beam pipe and
+    // pixel support tube; only what lies inside the envelope (a partial
+    // table may describe a smaller tracker).
+    const double beX0 = 352.8 * units::mm;
+    struct Tube {
+      const char* name;
+      double r;
+      double halfZ;
+      double thickness;
+    };
+    for (const Tube& t : {Tube{"BeamPipe", 19.0, plan.envelopeZ, 0.8},
+                          Tube{"PixelSupportTube", 200.0, 2800.0, 1.8}}) {
+      if (t.r >= plan.envelopeR) {
+        continue;
+      }
+      o << "\n[[passive.cylinder]]\n"
+        << "name = \"" << t.name << "\"\n"
+        << "r_mm = " << fmt(t.r, 3) << "\n"
+        << "z_max_mm = " << fmt(std::min(t.halfZ, plan.envelopeZ), 3) << "\n"
+        << "x_over_x0 = " << fmt(t.thickness * units::mm / beX0, 6) << "  # "
+        << fmt(t.thickness, 3) << " mm Be\n";
+    }
+  }
+  return o.str();
+}
+
+Detector buildTrackmlDetector(const std::vector<TrackmlModule>& modules,
+                              const TrackmlDetectorOptions& options) {
+  TrackmlDetectorOptions perSide = options;
+  perSide.perSideLayerIds = true;
+  return parseDetector(buildTrackmlDetectorToml(modules, perSide),
+                       options.source + " (TrackML detector)");
+}
+
+// ---------------------------------------------------------------------------
+
+TrackmlModuleMap::TrackmlModuleMap(const std::vector<TrackmlModule>& modules) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Layer> layers;
+  for (const TrackmlModule& m : modules) {
+    Layer& l = layers[{m.volume, m.layer}];
+    l.volume = m.volume;
+    l.layer = m.layer;
+    l.modules.push_back({std::atan2(m.center.y(), m.center.x()), m});
+  }
+  for (auto& [key, l] : layers) {
+    std::size_t nDisk = 0;
+    for (const Entry& e : l.modules) {
+      nDisk += isDiskModule(e.module) ? 1 : 0;
+    }
+    l.barrel = 2 * nDisk < l.modules.size();
+    double sum = 0.0;
+    for (const Entry& e : l.modules) {
+      sum += l.barrel ? e.module.center.head<2>().norm() : e.module.center.z();
+      for (const Vector3& c : e.module.corners()) {
+        l.phiWindow = std::max(
+            l.phiWindow, std::abs(wrapPhi(std::atan2(c.y(), c.x()) - e.phi)));
+      }
+    }
+    l.position = sum / static_cast<double>(l.modules.size());
+    std::sort(l.modules.begin(), l.modules.end(),
+              [](const Entry& a, const Entry& b) { return a.phi < b.phi; });
+    m_layers.push_back(std::move(l));
+  }
+}
+
+std::optional<TrackmlModuleMap::Location> TrackmlModuleMap::find(
+    std::uint32_t volume, const Vector3& position) const {
+  const Layer* best = nullptr;
+  double bestDistance = std::numeric_limits<double>::infinity();
+  for (const Layer& l : m_layers) {
+    if (l.volume != volume) {
+      continue;
+    }
+    double d = std::abs((l.barrel ? position.head<2>().norm() : position.z()) -
+                        l.position);
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = &l;
+    }
+  }
+  if (best == nullptr) {
+    return std::nullopt;
+  }
+  // Normalised distance from the module centre: <= 1 inside the module.
+  auto score = [&](const TrackmlModule& m) {
+    Vector3 local = m.toLocal(position);
+    return std::max(std::abs(local.x()) / m.halfUAt(local.y()),
+                    std::abs(local.y()) / m.halfV);
+  };
+  const TrackmlModule* found = nullptr;
+  double foundScore = std::numeric_limits<double>::infinity();
+  auto consider = [&](const TrackmlModule& m) {
+    double s = score(m);
+    if (s < foundScore) {
+      foundScore = s;
+      found = &m;
+    }
+  };
+  const double phi = std::atan2(position.y(), position.x());
+  const double w = best->phiWindow;
+  for (double shift : {-2.0 * kPi, 0.0, 2.0 * kPi}) {
+    const double lo = phi + shift - w;
+    const double hi = phi + shift + w;
+    if (hi < -kPi || lo > kPi) {
+      continue;
+    }
+    auto it = std::lower_bound(
+        best->modules.begin(), best->modules.end(), lo,
+        [](const Entry& e, double value) { return e.phi < value; });
+    for (; it != best->modules.end() && it->phi <= hi; ++it) {
+      consider(it->module);
+    }
+  }
+  if (found == nullptr || foundScore > 1.0) {
+    // In a gap between modules (or outside the window): the nearest one.
+    for (const Entry& e : best->modules) {
+      consider(e.module);
+    }
+  }
+  return Location{found->layer, found->module};
+}
+
+}  // namespace conftrack

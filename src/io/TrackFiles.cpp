@@ -1,0 +1,316 @@
+#include "conftrack/io/TrackFiles.hpp"
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/io/CsvReader.hpp"
+#include "conftrack/io/CsvWriter.hpp"
+
+#include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace conftrack {
+
+namespace {
+
+namespace c = trackfiles;
+
+/// (row, column) of the i-th lower-triangle covariance element.
+constexpr std::array<std::pair<int, int>, 15> kCovarianceIndex = {{{0, 0},
+                                                                   {1, 0},
+                                                                   {1, 1},
+                                                                   {2, 0},
+                                                                   {2, 1},
+                                                                   {2, 2},
+                                                                   {3, 0},
+                                                                   {3, 1},
+                                                                   {3, 2},
+                                                                   {3, 3},
+                                                                   {4, 0},
+                                                                   {4, 1},
+                                                                   {4, 2},
+                                                                   {4, 3},
+                                                                   {4, 4}}};
+
+std::vector<std::string_view> trackColumns() {
+  std::vector<std::string_view> columns = {c::kTrackId, c::kD0, c::kPhi0,
+                                           c::kOmega,   c::kZ0, c::kTanLambda};
+  columns.insert(columns.end(), c::kCovariance.begin(), c::kCovariance.end());
+  columns.insert(columns.end(), {c::kChi2, c::kNdf, c::kNHits, c::kNOutliers,
+                                 c::kStep, c::kPtEstimate, c::kFitted});
+  return columns;
+}
+
+void removeIfExists(const std::filesystem::path& file) {
+  std::error_code ec;
+  std::filesystem::remove(file, ec);
+  if (ec) {
+    throw InputError(location(file.string()),
+                     "cannot remove stale file: " + ec.message());
+  }
+}
+
+/// The plain or the .gz variant of a file, whichever exists.
+std::filesystem::path locate(const std::filesystem::path& dir,
+                             std::uint64_t eventNumber, TrackFileKind kind) {
+  const std::filesystem::path plain =
+      dir / trackFileName(eventNumber, kind, false);
+  const std::filesystem::path gz = dir / trackFileName(eventNumber, kind, true);
+  std::error_code ec;
+  const bool hasPlain = std::filesystem::exists(plain, ec);
+  const bool hasGz = std::filesystem::exists(gz, ec);
+  if (hasPlain && hasGz) {
+    throw InputError(location(plain.string()),
+                     "both " + plain.filename().string() + " and " +
+                         gz.filename().string() + " exist: remove one of them");
+  }
+  if (!hasPlain && !hasGz) {
+    throw InputError(location(plain.string()), "no such file (nor with .gz)");
+  }
+  return hasPlain ? plain : gz;
+}
+
+/// A 0/1 field as a bool.
+bool flag(const CsvReader& csv, std::size_t column) {
+  const auto value = csv.getInteger<std::uint8_t>(column);
+  if (value > 1) {
+    csv.failField(column, "is not 0 or 1");
+  }
+  return value == 1;
+}
+
+/// Hit id -> hit index.
+std::unordered_map<std::uint64_t, HitIndex> hitIndexById(
+    std::span<const Hit> hits) {
+  std::unordered_map<std::uint64_t, HitIndex> map;
+  map.reserve(hits.size());
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    map.emplace(hits[i].id, static_cast<HitIndex>(i));
+  }
+  return map;
+}
+
+}  // namespace
+
+std::string trackFileName(std::uint64_t eventNumber, TrackFileKind kind,
+                          bool gzip) {
+  std::string digits = std::to_string(eventNumber);
+  std::string name = "event";
+  if (digits.size() < 9) {
+    name.append(9 - digits.size(), '0');
+  }
+  name += digits;
+  name += kind == TrackFileKind::eTracks ? "-tracks.csv" : "-track-hits.csv";
+  if (gzip) {
+    name += ".gz";
+  }
+  return name;
+}
+
+void writeTrackTable(const std::filesystem::path& file,
+                     const std::vector<Track>& tracks, int gzipLevel) {
+  CsvWriter csv(file.string(), trackColumns(), tracks.size());
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    const Track& t = tracks[i];
+    const TrackVector& a = t.atIp.parameters;
+    csv.add(static_cast<std::uint64_t>(i));
+    csv.add(a[eD0] / units::mm);
+    csv.add(a[ePhi0]);
+    csv.add(a[eOmega] * units::mm);
+    csv.add(a[eZ0] / units::mm);
+    csv.add(a[eTanLambda]);
+    // Native units throughout (mm, rad, 1/mm), so no conversion.
+    for (const auto& [row, column] : kCovarianceIndex) {
+      csv.add(t.atIp.covariance(row, column));
+    }
+    csv.add(t.chi2);
+    csv.add(t.ndf);
+    csv.add(static_cast<std::uint32_t>(t.hits.size()));
+    csv.add(t.numOutliers());
+    csv.add(t.findingStep);
+    csv.add(t.ptEstimate / units::GeV);
+    csv.add(t.fitted ? 1 : 0);
+    csv.endRow();
+  }
+  csv.write(file, hasGzipExtension(file), gzipLevel);
+}
+
+void writeTrackHitTable(const std::filesystem::path& file,
+                        std::span<const Hit> hits,
+                        const std::vector<Track>& tracks, int gzipLevel) {
+  std::size_t rows = 0;
+  for (const Track& t : tracks) {
+    rows += t.hits.size();
+  }
+  CsvWriter csv(file.string(), {c::kTrackId, c::kHitId, c::kOutlier}, rows);
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    const Track& t = tracks[i];
+    if (!t.outlier.empty() && t.outlier.size() != t.hits.size()) {
+      throw std::invalid_argument(
+          "writeTrackHitTable: outlier flags not parallel to the hits of "
+          "track " +
+          std::to_string(i));
+    }
+    for (std::size_t k = 0; k < t.hits.size(); ++k) {
+      if (t.hits[k] >= hits.size()) {
+        throw std::out_of_range("writeTrackHitTable: hit index " +
+                                std::to_string(t.hits[k]) + " of track " +
+                                std::to_string(i) + " out of range");
+      }
+      csv.add(static_cast<std::uint64_t>(i));
+      csv.add(hits[t.hits[k]].id);
+      csv.add(!t.outlier.empty() && t.outlier[k] != 0 ? 1 : 0);
+      csv.endRow();
+    }
+  }
+  csv.write(file, hasGzipExtension(file), gzipLevel);
+}
+
+void writeTracks(const std::filesystem::path& dir, std::uint64_t eventNumber,
+                 std::span<const Hit> hits, const std::vector<Track>& tracks,
+                 const WriteOptions& options) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    throw InputError(location(dir.string()),
+                     "cannot create folder: " + ec.message());
+  }
+  const bool gz = options.gzip;
+  auto path = [&](TrackFileKind kind, bool gzip) {
+    return dir / trackFileName(eventNumber, kind, gzip);
+  };
+  writeTrackTable(path(TrackFileKind::eTracks, gz), tracks, options.gzipLevel);
+  removeIfExists(path(TrackFileKind::eTracks, !gz));
+  writeTrackHitTable(path(TrackFileKind::eTrackHits, gz), hits, tracks,
+                     options.gzipLevel);
+  removeIfExists(path(TrackFileKind::eTrackHits, !gz));
+}
+
+std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
+                                  const std::filesystem::path& trackHitsFile,
+                                  std::span<const Hit> hits) {
+  std::vector<Track> tracks;
+  // Per track: its id, declared n_hits and n_outliers, and its line.
+  struct Declared {
+    std::uint32_t hits = 0;
+    std::uint32_t outliers = 0;
+    std::size_t line = 0;
+  };
+  std::vector<Declared> declared;
+  std::unordered_map<std::uint64_t, std::size_t> indexById;
+  {
+    CsvReader csv = CsvReader::open(tracksFile);
+    std::vector<std::size_t> col;
+    for (std::string_view name : trackColumns()) {
+      col.push_back(csv.requireColumn(name));
+    }
+    const std::size_t cId = col[0];
+    const std::size_t cCov = 6;
+    const std::size_t cRest = cCov + c::kCovariance.size();
+    tracks.reserve(csv.estimateRows());
+    while (csv.next()) {
+      const auto id = csv.getInteger<std::uint64_t>(cId);
+      if (!indexById.emplace(id, tracks.size()).second) {
+        csv.fail("duplicate track_id " + std::to_string(id));
+      }
+      Track& t = tracks.emplace_back();
+      TrackVector& a = t.atIp.parameters;
+      a[eD0] = csv.getDouble(col[1]) * units::mm;
+      a[ePhi0] = csv.getDouble(col[2]);
+      a[eOmega] = csv.getDouble(col[3]) / units::mm;
+      a[eZ0] = csv.getDouble(col[4]) * units::mm;
+      a[eTanLambda] = csv.getDouble(col[5]);
+      for (std::size_t k = 0; k < kCovarianceIndex.size(); ++k) {
+        const auto [row, column] = kCovarianceIndex[k];
+        const double value = csv.getDouble(col[cCov + k]);
+        if (row == column && value < 0.0) {
+          csv.failField(col[cCov + k], "is negative (a variance)");
+        }
+        t.atIp.covariance(row, column) = value;
+        t.atIp.covariance(column, row) = value;
+      }
+      t.chi2 = csv.getDouble(col[cRest]);
+      if (t.chi2 < 0.0) {
+        csv.failField(col[cRest], "is negative");
+      }
+      t.ndf = csv.getInteger<int>(col[cRest + 1]);
+      Declared& d = declared.emplace_back();
+      d.hits = csv.getInteger<std::uint32_t>(col[cRest + 2]);
+      d.outliers = csv.getInteger<std::uint32_t>(col[cRest + 3]);
+      d.line = csv.line();
+      if (d.outliers > d.hits) {
+        csv.failField(col[cRest + 3],
+                      "exceeds n_hits " + std::to_string(d.hits));
+      }
+      t.findingStep = csv.getInteger<std::uint16_t>(col[cRest + 4]);
+      t.ptEstimate = csv.getDouble(col[cRest + 5]) * units::GeV;
+      t.fitted = flag(csv, col[cRest + 6]);
+      t.hits.reserve(d.hits);
+      t.outlier.reserve(d.hits);
+    }
+  }
+  {
+    CsvReader csv = CsvReader::open(trackHitsFile);
+    const std::size_t cTrack = csv.requireColumn(c::kTrackId);
+    const std::size_t cHit = csv.requireColumn(c::kHitId);
+    const auto cOutlier = csv.findColumn(c::kOutlier);
+    const auto hitIndex = hitIndexById(hits);
+    // Hits already on each track, to reject duplicates.
+    std::unordered_set<std::uint64_t> seen;
+    seen.reserve(csv.estimateRows());
+    while (csv.next()) {
+      const auto trackId = csv.getInteger<std::uint64_t>(cTrack);
+      const auto track = indexById.find(trackId);
+      if (track == indexById.end()) {
+        csv.fail("track_id " + std::to_string(trackId) +
+                 " is not in the tracks file");
+      }
+      const auto hitId = csv.getInteger<std::uint64_t>(cHit);
+      const auto hit = hitIndex.find(hitId);
+      if (hit == hitIndex.end()) {
+        csv.fail("hit_id " + std::to_string(hitId) +
+                 " is not a hit of the event");
+      }
+      // (track index, hit index) packed into one key.
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(track->second) << 32) | hit->second;
+      if (!seen.insert(key).second) {
+        csv.fail("hit_id " + std::to_string(hitId) +
+                 " appears twice on track " + std::to_string(trackId));
+      }
+      Track& t = tracks[track->second];
+      t.hits.push_back(hit->second);
+      t.outlier.push_back(cOutlier && flag(csv, *cOutlier) ? 1 : 0);
+    }
+  }
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    const Declared& d = declared[i];
+    if (tracks[i].hits.size() != d.hits) {
+      throw InputError(location(tracksFile.string(), d.line),
+                       "n_hits is " + std::to_string(d.hits) + " but " +
+                           trackHitsFile.filename().string() + " has " +
+                           std::to_string(tracks[i].hits.size()) +
+                           " rows for this track");
+    }
+    if (tracks[i].numOutliers() != d.outliers) {
+      throw InputError(location(tracksFile.string(), d.line),
+                       "n_outliers is " + std::to_string(d.outliers) + " but " +
+                           trackHitsFile.filename().string() + " flags " +
+                           std::to_string(tracks[i].numOutliers()) +
+                           " hits of this track as outliers");
+    }
+  }
+  return tracks;
+}
+
+std::vector<Track> readTracks(const std::filesystem::path& dir,
+                              std::uint64_t eventNumber,
+                              std::span<const Hit> hits) {
+  const std::filesystem::path tracks =
+      locate(dir, eventNumber, TrackFileKind::eTracks);
+  const std::filesystem::path trackHits =
+      locate(dir, eventNumber, TrackFileKind::eTrackHits);
+  return readTrackFiles(tracks, trackHits, hits);
+}
+
+}  // namespace conftrack

@@ -1,0 +1,119 @@
+#include "conftrack/reconstruction/selection/TrackSelector.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace conftrack {
+
+namespace {
+
+/// Sorted ids of the hits used in the fit (outliers excluded).
+std::vector<std::uint64_t> usedHitIds(std::span<const Hit> hits,
+                                      const Track& track) {
+  if (track.outlier.size() != track.hits.size()) {
+    throw std::invalid_argument(
+        "TrackSelector: outlier flags not parallel to the hits");
+  }
+  std::vector<std::uint64_t> ids;
+  ids.reserve(track.hits.size());
+  for (std::size_t i = 0; i < track.hits.size(); ++i) {
+    if (track.hits[i] >= hits.size()) {
+      throw std::out_of_range("TrackSelector: hit index out of range");
+    }
+    if (track.outlier[i] == 0) {
+      ids.push_back(hits[track.hits[i]].id);
+    }
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+double chi2PerNdf(const Track& track) {
+  return track.ndf > 0 ? track.chi2 / track.ndf
+                       : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+SelectionResult TrackSelector::run(std::span<const Hit> hits,
+                                   std::vector<Track> tracks) const {
+  SelectionResult result;
+  // Candidates passing the per-track cuts, with their used hit ids.
+  std::vector<std::size_t> candidates;
+  std::vector<std::vector<std::uint64_t>> ids(tracks.size());
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    if (m_config.requireFitted && !tracks[i].fitted) {
+      ++result.unfitted;
+      continue;
+    }
+    ids[i] = usedHitIds(hits, tracks[i]);
+    if (ids[i].size() < m_config.minHits) {
+      ++result.tooFewHits;
+      continue;
+    }
+    candidates.push_back(i);
+  }
+  std::vector<std::uint8_t> keep(tracks.size(), 0);
+  if (m_config.cloneSharedHits == 0) {
+    for (std::size_t i : candidates) {
+      keep[i] = 1;
+    }
+  } else {
+    // Best first: more hits, lower chi2/ndf, smaller hit-id list. The last
+    // key makes the order total for distinct tracks (identical tracks are
+    // clones of each other and either may stand for both).
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [&](std::size_t a, std::size_t b) {
+                       if (ids[a].size() != ids[b].size()) {
+                         return ids[a].size() > ids[b].size();
+                       }
+                       const double qa = chi2PerNdf(tracks[a]);
+                       const double qb = chi2PerNdf(tracks[b]);
+                       if (qa != qb) {
+                         return qa < qb;
+                       }
+                       return ids[a] < ids[b];
+                     });
+    // Hit id -> kept tracks holding it; shared-hit counts per kept track.
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> owners;
+    std::unordered_map<std::uint32_t, std::uint32_t> shared;
+    for (std::size_t i : candidates) {
+      shared.clear();
+      bool clone = false;
+      for (std::uint64_t id : ids[i]) {
+        auto it = owners.find(id);
+        if (it == owners.end()) {
+          continue;
+        }
+        for (std::uint32_t owner : it->second) {
+          if (++shared[owner] >= m_config.cloneSharedHits) {
+            clone = true;
+            break;
+          }
+        }
+        if (clone) {
+          break;
+        }
+      }
+      if (clone) {
+        ++result.clones;
+        continue;
+      }
+      keep[i] = 1;
+      for (std::uint64_t id : ids[i]) {
+        owners[id].push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+  }
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    if (keep[i] != 0) {
+      result.tracks.push_back(std::move(tracks[i]));
+    }
+  }
+  return result;
+}
+
+}  // namespace conftrack

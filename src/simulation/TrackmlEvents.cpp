@@ -1,0 +1,281 @@
+#include "conftrack/simulation/TrackmlEvents.hpp"
+
+#include "conftrack/core/Random.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace conftrack {
+
+namespace {
+
+constexpr std::array<double, 9> kOrderProfile = {10., 8., 6., 5., 3.,
+                                                 3.,  3., 5., 6.};
+constexpr std::uint32_t kOrderMinHits = 4;
+constexpr std::uint32_t kOrderMaxHits = 20;
+
+/// numpy.interp(x, xp, fp) for increasing xp, clamped at the ends.
+double interp(double x, const std::array<double, 9>& xp,
+              const std::array<double, 9>& fp) {
+  if (x <= xp.front()) {
+    return fp.front();
+  }
+  if (x >= xp.back()) {
+    return fp.back();
+  }
+  std::size_t k = static_cast<std::size_t>(
+      std::upper_bound(xp.begin(), xp.end(), x) - xp.begin());
+  const double t = (x - xp[k - 1]) / (xp[k] - xp[k - 1]);
+  return fp[k - 1] + t * (fp[k] - fp[k - 1]);
+}
+
+/// ORDER_MATRIX of weights.py: row n holds the normalised profile
+/// interpolated onto n hits.
+const std::array<std::array<double, kOrderMaxHits>, kOrderMaxHits + 1>&
+orderMatrix() {
+  static const auto matrix = [] {
+    std::array<std::array<double, kOrderMaxHits>, kOrderMaxHits + 1> w{};
+    for (std::uint32_t n = kOrderMinHits; n <= kOrderMaxHits; ++n) {
+      std::array<double, 9> supports{};
+      for (std::size_t k = 0; k < supports.size(); ++k) {
+        supports[k] = static_cast<double>(k) * (n - 1) /
+                      static_cast<double>(kOrderProfile.size() - 1);
+      }
+      double sum = 0.0;
+      for (std::uint32_t i = 0; i < n; ++i) {
+        w[n][i] = interp(static_cast<double>(i), supports, kOrderProfile);
+        sum += w[n][i];
+      }
+      for (std::uint32_t i = 0; i < n; ++i) {
+        w[n][i] /= sum;
+      }
+    }
+    return w;
+  }();
+  return matrix;
+}
+
+/// Random point on a layer surface, uniform in area.
+Vector3 uniformPointOn(const SensitiveLayer& layer, RandomEngine& rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double phi = std::numbers::pi * (2.0 * uniform(rng) - 1.0);
+  if (layer.isDisk()) {
+    const double r2Min = layer.rMin * layer.rMin;
+    const double r2Max = layer.rMax * layer.rMax;
+    const double r = std::sqrt(r2Min + (r2Max - r2Min) * uniform(rng));
+    return {r * std::cos(phi), r * std::sin(phi), layer.z()};
+  }
+  const double z = layer.zMin + (layer.zMax - layer.zMin) * uniform(rng);
+  return {layer.r * std::cos(phi), layer.r * std::sin(phi), z};
+}
+
+}  // namespace
+
+double trackmlPtWeight(double pt) {
+  // weights.py: interp(pt, [0.05, 0.5, 3], [0.2, 0.2, 1], left=0, right=1).
+  if (pt < 0.05) {
+    return 0.0;
+  }
+  if (pt <= 0.5) {
+    return 0.2;
+  }
+  if (pt >= 3.0) {
+    return 1.0;
+  }
+  return 0.2 + (pt - 0.5) / (3.0 - 0.5) * (1.0 - 0.2);
+}
+
+double trackmlOrderWeight(std::uint32_t ihit, std::uint32_t nhits) {
+  if (nhits < kOrderMinHits || ihit >= kOrderMaxHits) {
+    return 0.0;
+  }
+  nhits = std::min(nhits, kOrderMaxHits);
+  if (ihit >= nhits) {
+    return 0.0;
+  }
+  return orderMatrix()[nhits][ihit];
+}
+
+std::vector<double> computeTrackmlWeights(
+    const std::vector<HitTruth>& truth,
+    const std::vector<Particle>& particles) {
+  std::unordered_map<std::uint64_t, const Particle*> byId;
+  byId.reserve(particles.size());
+  for (const Particle& p : particles) {
+    byId.emplace(p.id, &p);
+  }
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> hitsOf;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    if (truth[i].particleId != 0) {
+      hitsOf[truth[i].particleId].push_back(i);
+    }
+  }
+  std::vector<double> weights(truth.size(), 0.0);
+  for (auto& [id, hits] : hitsOf) {
+    auto it = byId.find(id);
+    if (it == byId.end()) {
+      continue;  // weights.py: no particle row, pT weight 0
+    }
+    const Particle& particle = *it->second;
+    const double wPt = trackmlPtWeight(particle.pt());
+    const auto nhits = static_cast<std::uint32_t>(hits.size());
+    std::vector<double> distance(hits.size());
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+      distance[k] = std::abs(truth[hits[k]].position.z() - particle.vertex.z());
+    }
+    std::vector<std::size_t> order(hits.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](auto a, auto b) { return distance[a] < distance[b]; });
+    // pandas rank(): ties share their average 1-based rank; weights.py then
+    // subtracts 1 and truncates to an integer.
+    for (std::size_t first = 0; first < order.size();) {
+      std::size_t last = first;
+      while (last + 1 < order.size() &&
+             distance[order[last + 1]] == distance[order[first]]) {
+        ++last;
+      }
+      const double averageRank = 0.5 * static_cast<double>(first + last + 2);
+      const auto ihit = static_cast<std::uint32_t>(averageRank - 1.0);
+      const double w = wPt * trackmlOrderWeight(ihit, nhits);
+      for (std::size_t k = first; k <= last; ++k) {
+        weights[hits[order[k]]] = w;
+      }
+      first = last + 1;
+    }
+  }
+  const double sum = std::accumulate(weights.begin(), weights.end(), 0.0);
+  if (sum > 0.0) {
+    for (double& w : weights) {
+      w /= sum;
+    }
+  }
+  return weights;
+}
+
+TrackmlEventSimulation::TrackmlEventSimulation(const Detector& detector,
+                                               const TrackmlModuleMap* modules,
+                                               Config config)
+    : m_detector(&detector),
+      m_modules(modules),
+      m_config(std::move(config)),
+      m_simulator(detector, m_config.simulator) {
+  if (!(m_config.noiseFraction >= 0.0 && m_config.noiseFraction < 1.0)) {
+    throw std::invalid_argument(
+        "TrackmlEventSimulation: noiseFraction must be in [0, 1)");
+  }
+  if (!(m_config.minPt >= 0.0)) {
+    throw std::invalid_argument(
+        "TrackmlEventSimulation: minPt must not be negative");
+  }
+}
+
+Event TrackmlEventSimulation::simulate(
+    std::uint64_t eventNumber, const std::vector<Particle>& particles) const {
+  Event event;
+  event.number = eventNumber;
+  RandomEngine simRng =
+      makeEngine(m_config.seed, eventNumber, RandomStream::eSimulation);
+  if (m_config.minPt > 0.0) {
+    std::vector<Particle> simulated;
+    for (const Particle& p : particles) {
+      if (p.pt() >= m_config.minPt) {
+        simulated.push_back(p);
+      } else {
+        event.particles.push_back(p);
+        event.particles.back().nHits = 0;
+      }
+    }
+    m_simulator.simulate(simulated, simRng, event);
+    event.sortParticles();
+  } else {
+    m_simulator.simulate(particles, simRng, event);
+  }
+
+  const std::vector<SensitiveLayer>& layers = m_detector->layers();
+  auto layerIndex = [&](const Hit& hit) {
+    return *m_detector->findLayer(hit.detId);
+  };
+
+  if (m_config.noiseFraction > 0.0) {
+    // Noise has its own stream (no overlay in this mode), so that the
+    // particle hits do not change with the noise fraction.
+    RandomEngine noiseRng = makeEngine(m_config.seed, eventNumber,
+                                       RandomStream::eBackgroundSimulation);
+    std::vector<std::size_t> perLayer(layers.size(), 0);
+    for (const Hit& hit : event.hits) {
+      ++perLayer[layerIndex(hit)];
+    }
+    const double ratio =
+        m_config.noiseFraction / (1.0 - m_config.noiseFraction);
+    std::uint64_t nextId = event.hits.size() + 1;
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+      const auto n = static_cast<std::size_t>(
+          std::llround(ratio * static_cast<double>(perLayer[l])));
+      for (std::size_t k = 0; k < n; ++k) {
+        Hit hit;
+        hit.id = nextId++;
+        hit.position = uniformPointOn(layers[l], noiseRng);
+        hit.detId = layers[l].id;
+        hit.detId.module = layers[l].moduleAt(hit.position);
+        layers[l].localAxes(hit.position, hit.uAxis, hit.vAxis);
+        hit.sigmaU = layers[l].sigmaU;
+        hit.sigmaV = layers[l].sigmaV;
+        event.hits.push_back(hit);
+        HitTruth truth;
+        truth.particleId = 0;
+        truth.position = hit.position;
+        event.truth.push_back(truth);
+      }
+    }
+  }
+
+  // Real TrackML module ids: the module the true crossing lies on.
+  if (m_modules != nullptr) {
+    for (std::size_t i = 0; i < event.hits.size(); ++i) {
+      Hit& hit = event.hits[i];
+      const SensitiveLayer& layer = layers[layerIndex(hit)];
+      if (auto where =
+              m_modules->find(layer.trackmlVolume, event.truth[i].position)) {
+        hit.detId.module = where->module;
+      }
+    }
+  }
+
+  // Kaggle order: by volume, layer and module; ids 1..N in that order.
+  std::vector<std::array<std::uint64_t, 3>> keys(event.hits.size());
+  for (std::size_t i = 0; i < event.hits.size(); ++i) {
+    const SensitiveLayer& layer = layers[layerIndex(event.hits[i])];
+    keys[i] = {layer.trackmlVolume, layer.trackmlLayer,
+               event.hits[i].detId.module};
+  }
+  std::vector<std::size_t> order(event.hits.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](auto a, auto b) { return keys[a] < keys[b]; });
+  std::vector<Hit> hits;
+  std::vector<HitTruth> truth;
+  hits.reserve(order.size());
+  truth.reserve(order.size());
+  for (std::size_t i : order) {
+    hits.push_back(event.hits[i]);
+    hits.back().id = hits.size();
+    truth.push_back(event.truth[i]);
+  }
+  event.hits = std::move(hits);
+  event.truth = std::move(truth);
+
+  std::vector<double> weights =
+      computeTrackmlWeights(event.truth, event.particles);
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    event.truth[i].weight = weights[i];
+  }
+  return event;
+}
+
+}  // namespace conftrack
