@@ -13,5 +13,7 @@ void addDetectorCommand(CLI::App& app);
 void addSimulateCommand(CLI::App& app);
 void addReconstructCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
+void addEvaluateCommand(CLI::App& app);
+void addTrackmlCommands(CLI::App& app);
 
 }  // namespace conftrack::cli

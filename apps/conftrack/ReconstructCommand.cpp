@@ -4,6 +4,7 @@
 #include "conftrack/io/EventFiles.hpp"
 #include "conftrack/io/TrackFiles.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
+#include "conftrack/io/TrackmlSubmission.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -24,6 +25,8 @@ struct ReconstructOptions {
   std::string output = "tracks";
   std::size_t threads = 0;
   bool gzip = false;
+  /// Also write TrackML submission files.
+  bool submission = false;
 };
 
 struct EventReport {
@@ -49,6 +52,14 @@ void runReconstruct(const ReconstructOptions& opt) {
     WriteOptions wo;
     wo.gzip = opt.gzip;
     writeTracks(opt.output, events[i], event.hits, r.tracks, wo);
+    if (opt.submission) {
+      std::vector<std::vector<HitIndex>> lists;
+      lists.reserve(r.tracks.size());
+      for (const Track& t : r.tracks) {
+        lists.push_back(t.hits);
+      }
+      writeSubmission(opt.output, events[i], event.hits, lists, opt.gzip);
+    }
     reports[i] = {event.hits.size(), r.tracks.size(), r.findingMs, r.fittingMs};
   });
   EventReport total;
@@ -81,6 +92,9 @@ void addReconstructCommand(CLI::App& app) {
   addReconstructionOptions(*cmd, opt->reco);
   addThreadsOption(*cmd, opt->threads);
   cmd->add_flag("--gzip", opt->gzip, "Write .csv.gz files");
+  cmd->add_flag("--submission", opt->submission,
+                "Also write TrackML submission files "
+                "(eventNNNNNNNNN-submission.csv)");
   cmd->callback([opt]() { runReconstruct(*opt); });
 }
 

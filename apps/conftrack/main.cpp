@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   cli::addSimulateCommand(app);
   cli::addReconstructCommand(app);
   cli::addRunCommand(app);
+  cli::addEvaluateCommand(app);
+  cli::addTrackmlCommands(app);
 
   try {
     app.parse(argc, argv);
