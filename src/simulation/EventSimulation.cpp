@@ -38,6 +38,12 @@ EventSimulation::EventSimulation(const Detector& detector, Config config)
     }
     if (m_config.overlayBx > 0) {
       oc.numBunchCrossings = m_config.overlayBx;
+      // CLIC puts the physics BX at position 10 of 30; keep that third for
+      // other train lengths unless the [overlay] table sets it.
+      if (!(over && over->has("physics_bx"))) {
+        oc.physicsBunchCrossing =
+            std::max<std::size_t>(1, (m_config.overlayBx + 1) / 3);
+      }
     }
     m_config.overlayBx = oc.numBunchCrossings;
     m_overlay = std::make_unique<GammaGammaOverlay>(oc);

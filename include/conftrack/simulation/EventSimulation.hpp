@@ -29,7 +29,9 @@ class EventSimulation {
     std::string generatorToml;
     /// Name of the source of generatorToml, for error messages.
     std::string generatorTomlSource = "generator settings";
-    /// Bunch crossings of gamma gamma -> hadrons overlaid (0: none).
+    /// Bunch crossings of gamma gamma -> hadrons overlaid (0: none). The
+    /// physics BX sits at position N/3 of the train (10 of 30, as CLIC)
+    /// unless the [overlay] table sets physics_bx.
     std::size_t overlayBx = 0;
     /// Run seed; every event's streams derive from (seed, event number).
     std::uint64_t seed = 1;

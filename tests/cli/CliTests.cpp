@@ -1,0 +1,136 @@
+// End-to-end checks of the conftrack program: determinism across thread
+// counts, exit codes and one-line errors.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string err;
+};
+
+/// Runs `conftrack args`; returns the exit code and stderr.
+Result conftrack(const std::string& args) {
+  fs::path err = fs::path(::testing::TempDir()) / "conftrack-stderr.txt";
+  std::string cmd = std::string(CONFTRACK_BINARY) + " " + args +
+                    " > /dev/null 2> " + err.string();
+  int status = std::system(cmd.c_str());
+  std::ifstream in(err);
+  std::stringstream s;
+  s << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, s.str()};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path tempDir(const std::string& name) {
+  fs::path d = fs::path(::testing::TempDir()) / ("conftrack-cli-" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+TEST(Cli, SimulationIsByteIdenticalForOneAndTwoThreads) {
+  fs::path a = tempDir("sim1");
+  fs::path b = tempDir("sim2");
+  std::string common =
+      "-q simulate --sample ttbar3tev --overlay-bx 5 -n 4 --seed 7 -o ";
+  ASSERT_EQ(conftrack(common + a.string() + " -j 1").code, 0);
+  ASSERT_EQ(conftrack(common + b.string() + " -j 2").code, 0);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(a)) {
+    fs::path other = b / entry.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other;
+    EXPECT_EQ(slurp(entry.path()), slurp(other)) << entry.path().filename();
+    ++files;
+  }
+  EXPECT_EQ(files, 12u);  // hits, truth, particles for 4 events
+}
+
+/// summary.json without the keys that hold times or machine figures.
+nlohmann::json withoutTimes(nlohmann::json j) {
+  j.erase("time_ms_per_event");
+  j.erase("peak_rss_mb");
+  j.erase("threads");
+  if (j.contains("steps")) {
+    for (auto& s : j["steps"]) {
+      if (s.is_object()) {
+        s.erase("ms");
+        s.erase("milliseconds");
+        s.erase("time_ms");
+        s.erase("ms_per_event");
+      }
+    }
+  }
+  return j;
+}
+
+TEST(Cli, RunSummaryIsIdenticalForOneAndTwoThreads) {
+  fs::path a = tempDir("run1");
+  fs::path b = tempDir("run2");
+  std::string common =
+      "-q run --sample ttbar3tev --overlay-bx 3 -n 4 --seed 3 --no-plots -o ";
+  ASSERT_EQ(conftrack(common + a.string() + " -j 1").code, 0);
+  ASSERT_EQ(conftrack(common + b.string() + " -j 2").code, 0);
+  nlohmann::json ja = nlohmann::json::parse(slurp(a / "summary.json"));
+  nlohmann::json jb = nlohmann::json::parse(slurp(b / "summary.json"));
+  EXPECT_EQ(ja["threads"], 1);
+  EXPECT_EQ(jb["threads"], 2);
+  for (const char* key :
+       {"version", "detector", "sample", "overlay_bx", "events", "seed",
+        "reconstructable_particles", "reconstructed_tracks", "efficiency",
+        "fake_rate", "duplicate_rate", "time_ms_per_event", "peak_rss_mb"}) {
+    EXPECT_TRUE(ja.contains(key)) << key;
+  }
+  EXPECT_EQ(withoutTimes(ja), withoutTimes(jb));
+}
+
+TEST(Cli, BadInputIsOneLineAndExitCodeOne) {
+  Result r = conftrack("detector show no-such-detector");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  r = conftrack("reconstruct -i /nonexistent-folder -o /tmp/x");
+  EXPECT_EQ(r.code, 1) << r.err;
+  r = conftrack("simulate --sample nonsense -n 1 -o " +
+                tempDir("bad").string());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("nonsense"), std::string::npos) << r.err;
+  r = conftrack("simulate --gen p_GeV=-3 --sample muons -n 1 -o " +
+                tempDir("bad2").string());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  r = conftrack("run --no-such-option");
+  EXPECT_EQ(r.code, 1);
+  r = conftrack("--help");
+  EXPECT_EQ(r.code, 0);
+}
+
+TEST(Cli, DetectorShowListsEveryLayer) {
+  fs::path out = fs::path(::testing::TempDir()) / "conftrack-show.txt";
+  std::string cmd = std::string(CONFTRACK_BINARY) +
+                    " detector show clicdet > " + out.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::string text = slurp(out);
+  for (const char* name : {"VXD_B_L0", "VXD_E_L5_pos", "IT_B_L2", "IT_E_L6_neg",
+                           "OT_B_L2", "OT_E_L3_pos", "BeamPipe"}) {
+    EXPECT_NE(text.find(name), std::string::npos) << name;
+  }
+  EXPECT_NE(text.find("31.165"), std::string::npos);
+  EXPECT_NE(text.find("1487.851"), std::string::npos);
+}
+
+}  // namespace
