@@ -473,6 +473,9 @@ def make_plots(folder, summary):
     if png:
         pngs.append(png)
     pngs += plot_times(plt, folder, summary)
+    # The event display, when conftrack drew one (conftrack_display.py).
+    if os.path.exists(os.path.join(folder, "event_display.png")):
+        pngs.append("event_display.png")
     return pngs
 
 

@@ -15,5 +15,6 @@ void addReconstructCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
 void addEvaluateCommand(CLI::App& app);
 void addTrackmlCommands(CLI::App& app);
+void addDisplayCommand(CLI::App& app);
 
 }  // namespace conftrack::cli

@@ -1,4 +1,6 @@
+#include "conftrack/core/Error.hpp"
 #include "conftrack/core/Log.hpp"
+#include "conftrack/evaluation/EventDisplay.hpp"
 #include "conftrack/evaluation/PerformanceCollector.hpp"
 #include "conftrack/evaluation/PerformanceReport.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
@@ -24,46 +26,175 @@ struct RunOptions {
   std::string output = "conftrack-out";
   std::size_t threads = 0;
   bool noPlots = false;
+  std::string study;
+};
+
+/// One simulated sample of a report.
+struct SubSample {
+  EventSimulation::Config sim;
+  std::size_t events = 0;
+};
+
+/// One report: a folder, its samples, evaluated together.
+struct ReportSpec {
+  std::string folder;
+  std::string sample;  ///< description in the report
+  bool singleParticle = false;
+  std::vector<SubSample> samples;
 };
 
 bool isSingleParticle(const std::string& sample) {
   return sample == "muons" || sample == "gun";
 }
 
-void runRun(const RunOptions& opt) {
+/// A particle-gun sample of muons of both charges.
+SubSample muonGun(const RunOptions& opt, const std::string& settings,
+                  std::size_t events) {
+  SubSample s;
+  s.sim = makeSimulationConfig(opt.sample);
+  s.sim.sample = "muons";
+  s.sim.overlayBx = 0;
+  s.sim.generatorToml =
+      "[generator]\nsample = \"gun\"\nparticle = \"mu-\"\n"
+      "random_charge = true\n" +
+      settings;
+  s.sim.generatorTomlSource = "study settings";
+  s.events = events;
+  return s;
+}
+
+/// The reports of `--study` (the paper's section 5 figures) or of a plain
+/// run.
+std::vector<ReportSpec> reportsOf(const RunOptions& opt) {
+  std::vector<ReportSpec> reports;
+  const std::size_t n = opt.events;
+  if (opt.study.empty()) {
+    ReportSpec r{"",
+                 opt.sample.sample,
+                 isSingleParticle(opt.sample.sample),
+                 {{makeSimulationConfig(opt.sample), n}}};
+    reports.push_back(r);
+  } else if (opt.study == "muons") {
+    // Resolutions versus pT at five polar angles (figure 5b and the d0, z0,
+    // phi, theta studies), and efficiency versus theta for each pT (5a).
+    ReportSpec res{
+        "resolutions", "muons pT 1/10/100 GeV, theta 10-89 deg", true, {}};
+    for (double pt : {1.0, 10.0, 100.0}) {
+      for (double theta : {10.0, 30.0, 50.0, 70.0, 89.0}) {
+        res.samples.push_back(
+            muonGun(opt,
+                    "pt_GeV = " + std::to_string(pt) +
+                        "\ntheta_deg = " + std::to_string(theta) + "\n",
+                    n));
+      }
+    }
+    reports.push_back(res);
+    for (double pt : {1.0, 10.0, 100.0}) {
+      std::string name = "efficiency_pt" + std::to_string(int(pt));
+      reports.push_back(
+          {name,
+           "muons pT " + std::to_string(int(pt)) + " GeV",
+           true,
+           {muonGun(opt,
+                    "pt_GeV = " + std::to_string(pt) +
+                        "\ntheta_min_deg = 8.0\ntheta_max_deg = 90.0\n"
+                        "theta_sampling = \"theta\"\n",
+                    5 * n)}});
+    }
+  } else if (opt.study == "ttbar") {
+    // Figures 6 and 7: with and without 30 BX of gamma gamma -> hadrons.
+    for (std::size_t bx : {std::size_t{0}, std::size_t{30}}) {
+      SampleOptions so = opt.sample;
+      so.sample = "ttbar3tev";
+      so.overlayBx = bx;
+      reports.push_back({bx == 0 ? "ttbar" : "ttbar_30bx",
+                         "ttbar3tev",
+                         false,
+                         {{makeSimulationConfig(so), n}}});
+    }
+  } else if (opt.study == "displaced") {
+    // Efficiency versus production radius of displaced muons (80 < theta,
+    // phi < 100 deg, radius up to 600 mm), as the CLICdp validation.
+    for (double p : {1.0, 10.0, 100.0}) {
+      reports.push_back(
+          {"displaced_p" + std::to_string(int(p)),
+           "displaced muons p " + std::to_string(int(p)) + " GeV",
+           true,
+           {muonGun(opt,
+                    "p_GeV = " + std::to_string(p) +
+                        "\ntheta_min_deg = 80.0\ntheta_max_deg = 100.0\n"
+                        "phi_min_deg = 80.0\nphi_max_deg = 100.0\n"
+                        "r_min_mm = 0.0\nr_max_mm = 600.0\n",
+                    5 * n)}});
+    }
+  } else {
+    throw InputError("--study " + opt.study +
+                     ": unknown study (muons, ttbar, displaced)");
+  }
+  return reports;
+}
+
+void runReport(const RunOptions& opt, const Detector& detector,
+               const Reconstruction& reco, const ReportSpec& spec) {
   using Clock = std::chrono::steady_clock;
-  Detector detector = loadDetector(opt.reco.detector);
-  EventSimulation sim(detector, makeSimulationConfig(opt.sample));
-  Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
-  PerformanceCollector collector(isSingleParticle(sim.config().sample)
+  std::filesystem::path dir = std::filesystem::path(opt.output) / spec.folder;
+  PerformanceCollector collector(spec.singleParticle
                                      ? PerformanceConfig::singleParticleSample()
                                      : PerformanceConfig{});
-  CONFTRACK_INFO("run: " << opt.events << " events of " << sim.description()
-                         << " in " << detector.name() << ", seed "
-                         << opt.sample.seed << ", "
-                         << effectiveThreads(opt.threads) << " threads");
-  forEachEvent(opt.events, opt.threads, "run", [&](std::size_t i) {
-    auto t0 = Clock::now();
-    Event event = sim.simulate(i + 1);
-    double simMs =
-        std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    Reconstruction::Result r = reco.run(event.hits);
-    collector.addEvent(i, event, r.tracks, detector.bz(), r.steps,
-                       {simMs, r.findingMs, r.fittingMs + r.selectionMs});
-  });
+  std::size_t offset = 0;
+  std::size_t overlayBx = 0;
+  std::string description;
+  Event firstEvent;
+  std::vector<Track> firstTracks;
+  for (const SubSample& sub : spec.samples) {
+    EventSimulation sim(detector, sub.sim);
+    overlayBx = sim.config().overlayBx;
+    description = sim.description();
+    CONFTRACK_INFO("run: " << sub.events << " events of " << description
+                           << " in " << detector.name() << ", seed "
+                           << sub.sim.seed << ", "
+                           << effectiveThreads(opt.threads) << " threads");
+    forEachEvent(sub.events, opt.threads, "run", [&](std::size_t i) {
+      auto t0 = Clock::now();
+      Event event = sim.simulate(i + 1);
+      double simMs =
+          std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      Reconstruction::Result r = reco.run(event.hits);
+      collector.addEvent(offset + i, event, r.tracks, detector.bz(), r.steps,
+                         {simMs, r.findingMs, r.fittingMs + r.selectionMs});
+      if (offset + i == 0) {
+        firstEvent = std::move(event);
+        firstTracks = std::move(r.tracks);
+      }
+    });
+    offset += sub.events;
+  }
   RunMetadata meta;
   meta.detector = detector.name();
-  meta.sample = sim.config().sample;
-  meta.overlayBx = sim.config().overlayBx;
-  meta.events = opt.events;
+  meta.sample =
+      spec.samples.size() == 1 ? spec.samples.front().sim.sample : spec.sample;
+  meta.overlayBx = overlayBx;
+  meta.events = offset;
   meta.seed = opt.sample.seed;
   meta.threads = effectiveThreads(opt.threads);
   PerformanceSummary summary = collector.summary();
-  std::filesystem::create_directories(opt.output);
+  std::filesystem::create_directories(dir);
+  if (!opt.noPlots) {
+    drawEventDisplay(dir / "event_display.png", firstEvent.hits, firstTracks,
+                     detector.name() + ", " + description + ", event 1",
+                     std::cerr);
+  }
   printSummaryTable(std::cout, meta, summary);
-  writePerformanceReport(opt.output, meta, summary, !opt.noPlots, std::cerr);
-  std::cout << "report: " << (std::filesystem::path(opt.output) / "index.html")
-            << '\n';
+  writePerformanceReport(dir, meta, summary, !opt.noPlots, std::cerr);
+  std::cout << "report: " << (dir / "index.html").string() << '\n';
+}
+
+void runRun(const RunOptions& opt) {
+  Detector detector = loadDetector(opt.reco.detector);
+  Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
+  for (const ReportSpec& spec : reportsOf(opt)) {
+    runReport(opt, detector, reco, spec);
+  }
 }
 
 }  // namespace
@@ -84,6 +215,10 @@ void addRunCommand(CLI::App& app) {
       ->capture_default_str();
   addThreadsOption(*cmd, opt->threads);
   cmd->add_flag("--no-plots", opt->noPlots, "Skip the Python plots");
+  cmd->add_option("--study", opt->study,
+                  "Preset reproducing the paper's figures: muons (-n events "
+                  "per pT and theta point), ttbar (with and without 30 BX), "
+                  "displaced; one report per sub-folder of -o");
   cmd->callback([opt]() { runRun(*opt); });
 }
 

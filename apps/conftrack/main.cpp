@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   cli::addRunCommand(app);
   cli::addEvaluateCommand(app);
   cli::addTrackmlCommands(app);
+  cli::addDisplayCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,68 @@
+#include "conftrack/core/Error.hpp"
+#include "conftrack/evaluation/EventDisplay.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/TrackFiles.hpp"
+#include "conftrack/io/TrackmlReader.hpp"
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "Commands.hpp"
+#include "ReconstructionOptions.hpp"
+
+namespace conftrack::cli {
+
+namespace {
+
+struct DisplayOptions {
+  ReconstructionOptions reco;
+  std::string input;
+  std::string tracks;
+  std::int64_t event = -1;
+  std::string output = "event_display.png";
+};
+
+void runDisplay(const DisplayOptions& opt) {
+  Detector detector = loadDetector(opt.reco.detector);
+  std::vector<std::uint64_t> numbers = listEvents(opt.input);
+  if (numbers.empty()) {
+    throw InputError(opt.input, "no event files (eventNNNNNNNNN-hits.csv)");
+  }
+  std::uint64_t number =
+      opt.event < 0 ? numbers.front() : static_cast<std::uint64_t>(opt.event);
+  Event event =
+      readEvent(opt.input, number, &detector, ReadOptions{false, false});
+  std::vector<Track> tracks;
+  if (!opt.tracks.empty()) {
+    tracks = readTracks(opt.tracks, number, event.hits);
+  } else {
+    Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
+    tracks = reco.run(event.hits).tracks;
+  }
+  std::string title = detector.name() + " event " + std::to_string(number);
+  if (drawEventDisplay(opt.output, event.hits, tracks, title, std::cerr)) {
+    std::cout << "event display: " << opt.output << '\n';
+  }
+}
+
+}  // namespace
+
+void addDisplayCommand(CLI::App& app) {
+  auto opt = std::make_shared<DisplayOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "display",
+      "Draw one event's hits and tracks in (x,y), (u,v) and (z,r) as PNG");
+  cmd->add_option("-i,--input", opt->input, "Folder with event files")
+      ->required();
+  cmd->add_option("-t,--tracks", opt->tracks,
+                  "Folder with track files (default: reconstruct now)");
+  cmd->add_option("--event", opt->event, "Event number (default: first)");
+  cmd->add_option("-o,--output", opt->output, "PNG file")
+      ->capture_default_str();
+  addReconstructionOptions(*cmd, opt->reco);
+  cmd->callback([opt]() { runDisplay(*opt); });
+}
+
+}  // namespace conftrack::cli
