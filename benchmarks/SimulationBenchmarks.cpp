@@ -4,6 +4,7 @@
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/simulation/EventSimulation.hpp"
 #include "conftrack/simulation/Simulator.hpp"
 
 #include <benchmark/benchmark.h>
@@ -69,5 +70,28 @@ BENCHMARK(simulateSoftPions)
     ->Args({3000, 1})
     ->Args({3000, 0})
     ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+namespace {
+
+/// One CLICdet tt-bar event with 30 BX of gamma gamma -> hadrons: generation
+/// and simulation (issue target: under 50 ms on one core).
+void simulateTtbar30Bx(benchmark::State& state) {
+  static const conftrack::Detector det = conftrack::loadDetector("clicdet");
+  conftrack::EventSimulation::Config cfg;
+  cfg.sample = "ttbar3tev";
+  cfg.overlayBx = 30;
+  conftrack::EventSimulation sim(det, cfg);
+  std::uint64_t event = 1;
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    conftrack::Event ev = sim.simulate(event++);
+    hits = ev.hits.size();
+    benchmark::DoNotOptimize(ev);
+  }
+  state.counters["hits"] = static_cast<double>(hits);
+}
+BENCHMARK(simulateTtbar30Bx)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -16,5 +16,6 @@ void addRunCommand(CLI::App& app);
 void addEvaluateCommand(CLI::App& app);
 void addTrackmlCommands(CLI::App& app);
 void addDisplayCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
 
 }  // namespace conftrack::cli

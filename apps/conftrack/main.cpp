@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   cli::addEvaluateCommand(app);
   cli::addTrackmlCommands(app);
   cli::addDisplayCommand(app);
+  cli::addBenchCommand(app);
 
   try {
     app.parse(argc, argv);
