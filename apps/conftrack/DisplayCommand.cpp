@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "Commands.hpp"
+#include "EventLoop.hpp"
 #include "ReconstructionOptions.hpp"
 
 namespace conftrack::cli {
@@ -26,10 +27,7 @@ struct DisplayOptions {
 
 void runDisplay(const DisplayOptions& opt) {
   Detector detector = loadDetector(opt.reco.detector);
-  std::vector<std::uint64_t> numbers = listEvents(opt.input);
-  if (numbers.empty()) {
-    throw InputError(opt.input, "no event files (eventNNNNNNNNN-hits.csv)");
-  }
+  std::vector<std::uint64_t> numbers = requireEvents(opt.input);
   std::uint64_t number =
       opt.event < 0 ? numbers.front() : static_cast<std::uint64_t>(opt.event);
   Event event =

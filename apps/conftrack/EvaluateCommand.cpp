@@ -29,10 +29,7 @@ struct EvaluateOptions {
 
 void runEvaluate(const EvaluateOptions& opt) {
   Detector detector = loadDetector(opt.detector);
-  std::vector<std::uint64_t> numbers = listEvents(opt.events);
-  if (numbers.empty()) {
-    throw InputError(opt.events, "no event files (eventNNNNNNNNN-hits.csv)");
-  }
+  std::vector<std::uint64_t> numbers = requireEvents(opt.events);
   PerformanceCollector collector(opt.singleParticle
                                      ? PerformanceConfig::singleParticleSample()
                                      : PerformanceConfig{});

@@ -2,6 +2,7 @@
 
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/io/EventFiles.hpp"
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -88,6 +89,14 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
 void addThreadsOption(CLI::App& cmd, std::size_t& threads) {
   cmd.add_option("-j,--threads", threads, "Threads (0: all cores)")
       ->capture_default_str();
+}
+
+std::vector<std::uint64_t> requireEvents(const std::string& dir) {
+  std::vector<std::uint64_t> events = listEvents(dir);
+  if (events.empty()) {
+    throw InputError(dir, "no event files (eventNNNNNNNNN-hits.csv)");
+  }
+  return events;
 }
 
 std::size_t effectiveThreads(std::size_t threads) {

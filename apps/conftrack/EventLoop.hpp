@@ -44,6 +44,9 @@ void addThreadsOption(CLI::App& cmd, std::size_t& threads);
 void forEachEvent(std::size_t n, std::size_t threads, const std::string& label,
                   const std::function<void(std::size_t)>& fn);
 
+/// The event numbers in a folder of event files; InputError if none.
+std::vector<std::uint64_t> requireEvents(const std::string& dir);
+
 /// Number of threads `threads` stands for (0: hardware concurrency).
 std::size_t effectiveThreads(std::size_t threads);
 

@@ -39,10 +39,7 @@ struct EventReport {
 void runReconstruct(const ReconstructOptions& opt) {
   Detector detector = loadDetector(opt.reco.detector);
   Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
-  std::vector<std::uint64_t> events = listEvents(opt.input);
-  if (events.empty()) {
-    throw InputError(opt.input, "no event files (eventNNNNNNNNN-hits.csv)");
-  }
+  std::vector<std::uint64_t> events = requireEvents(opt.input);
   std::filesystem::create_directories(opt.output);
   std::vector<EventReport> reports(events.size());
   forEachEvent(events.size(), opt.threads, "reconstruct", [&](std::size_t i) {

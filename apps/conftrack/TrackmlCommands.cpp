@@ -29,10 +29,7 @@ struct ScoreOptions {
 };
 
 void runScore(const ScoreOptions& opt) {
-  std::vector<std::uint64_t> numbers = listEvents(opt.events);
-  if (numbers.empty()) {
-    throw InputError(opt.events, "no event files (eventNNNNNNNNN-hits.csv)");
-  }
+  std::vector<std::uint64_t> numbers = requireEvents(opt.events);
   std::vector<TrackmlScore> scores(numbers.size());
   forEachEvent(numbers.size(), opt.threads, "score", [&](std::size_t i) {
     std::filesystem::path file =
@@ -84,10 +81,7 @@ void runTrackmlSim(const TrackmlSimOptions& opt) {
   cfg.minPt = opt.minPt;
   cfg.seed = opt.seed;
   TrackmlEventSimulation sim(detector, &map, cfg);
-  std::vector<std::uint64_t> numbers = listEvents(opt.input);
-  if (numbers.empty()) {
-    throw InputError(opt.input, "no event files (eventNNNNNNNNN-hits.csv)");
-  }
+  std::vector<std::uint64_t> numbers = requireEvents(opt.input);
   std::filesystem::create_directories(opt.output);
   forEachEvent(numbers.size(), opt.threads, "simulate", [&](std::size_t i) {
     Event real =

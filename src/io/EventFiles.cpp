@@ -46,14 +46,18 @@ std::optional<std::filesystem::path> findOne(const std::filesystem::path& dir,
 
 }  // namespace
 
-std::string eventFileName(std::uint64_t eventNumber, EventFileKind kind,
-                          bool gzip) {
+std::string eventFileStem(std::uint64_t eventNumber) {
   std::string digits = std::to_string(eventNumber);
   std::string name = "event";
   if (digits.size() < 9) {
     name.append(9 - digits.size(), '0');
   }
-  name += digits;
+  return name + digits;
+}
+
+std::string eventFileName(std::uint64_t eventNumber, EventFileKind kind,
+                          bool gzip) {
+  std::string name = eventFileStem(eventNumber);
   name += suffix(kind);
   if (gzip) {
     name += ".gz";

@@ -4,6 +4,7 @@
 #include "conftrack/core/Units.hpp"
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/CsvWriter.hpp"
+#include "conftrack/io/EventFiles.hpp"
 
 #include <stdexcept>
 #include <unordered_map>
@@ -94,12 +95,7 @@ std::unordered_map<std::uint64_t, HitIndex> hitIndexById(
 
 std::string trackFileName(std::uint64_t eventNumber, TrackFileKind kind,
                           bool gzip) {
-  std::string digits = std::to_string(eventNumber);
-  std::string name = "event";
-  if (digits.size() < 9) {
-    name.append(9 - digits.size(), '0');
-  }
-  name += digits;
+  std::string name = eventFileStem(eventNumber);
   name += kind == TrackFileKind::eTracks ? "-tracks.csv" : "-track-hits.csv";
   if (gzip) {
     name += ".gz";

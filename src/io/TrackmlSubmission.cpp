@@ -21,12 +21,7 @@ constexpr std::string_view kTrackId = "track_id";
 }  // namespace
 
 std::string submissionFileName(std::uint64_t eventNumber, bool gzip) {
-  std::string digits = std::to_string(eventNumber);
-  std::string name = "event";
-  if (digits.size() < 9) {
-    name.append(9 - digits.size(), '0');
-  }
-  name += digits;
+  std::string name = eventFileStem(eventNumber);
   name += "-submission.csv";
   if (gzip) {
     name += ".gz";

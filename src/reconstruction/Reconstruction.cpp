@@ -18,20 +18,6 @@ Reconstruction::Reconstruction(const Detector& detector, Config config)
       m_fitter(detector, m_config.fitter),
       m_selector(selectorConfig(m_config)) {}
 
-Track unfittedTrack(const FoundTrack& found) {
-  Track t;
-  t.hits = found.hits;
-  t.outlier.assign(found.hits.size(), 0);
-  t.findingStep = found.step;
-  t.ptEstimate = found.pt;
-  t.chargeEstimate = found.charge;
-  t.chi2Uv = found.uv.chi2;
-  t.ndfUv = found.uv.ndf;
-  t.chi2Sz = found.sz.chi2;
-  t.ndfSz = found.sz.ndf;
-  return t;
-}
-
 Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   using Clock = std::chrono::steady_clock;
   Result r;
@@ -48,7 +34,7 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   } else {
     tracks.reserve(found.tracks.size());
     for (const FoundTrack& f : found.tracks) {
-      tracks.push_back(unfittedTrack(f));
+      tracks.push_back(toTrack(f));
     }
   }
   auto t0 = Clock::now();

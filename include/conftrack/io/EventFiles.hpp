@@ -17,6 +17,10 @@ enum class EventFileKind : std::uint8_t { eHits, eTruth, eParticles };
 
 /// File name of an event file, e.g. "event000001001-hits.csv.gz". Event
 /// numbers are zero-padded to 9 digits (more digits if needed).
+/// "event" plus the event number zero-padded to 9 digits: the stem shared by
+/// all per-event files (events, tracks, submissions).
+std::string eventFileStem(std::uint64_t eventNumber);
+
 std::string eventFileName(std::uint64_t eventNumber, EventFileKind kind,
                           bool gzip);
 

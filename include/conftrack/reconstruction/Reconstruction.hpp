@@ -54,7 +54,4 @@ class Reconstruction {
   TrackSelector m_selector;
 };
 
-/// Track with only the finder's information (no fit).
-Track unfittedTrack(const FoundTrack& found);
-
 }  // namespace conftrack

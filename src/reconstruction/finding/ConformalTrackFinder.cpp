@@ -24,6 +24,20 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   return *this;
 }
 
+Track toTrack(const FoundTrack& found) {
+  Track t;
+  t.hits = found.hits;
+  t.outlier.assign(found.hits.size(), 0);
+  t.findingStep = found.step;
+  t.ptEstimate = found.pt;
+  t.chargeEstimate = found.charge;
+  t.chi2Uv = found.uv.chi2;
+  t.ndfUv = found.uv.ndf;
+  t.chi2Sz = found.sz.chi2;
+  t.ndfSz = found.sz.ndf;
+  return t;
+}
+
 ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
                                            Config config)
     : m_detector(&detector), m_config(std::move(config)) {}

@@ -828,16 +828,7 @@ FitStatus KalmanFitter::fitDirection(std::span<const Hit> hits,
 
 Track KalmanFitter::fit(std::span<const Hit> hits, const FoundTrack& found,
                         FitInfo* info) const {
-  Track track;
-  track.hits = found.hits;
-  track.outlier.assign(found.hits.size(), 0);
-  track.findingStep = found.step;
-  track.ptEstimate = found.pt;
-  track.chargeEstimate = found.charge;
-  track.chi2Uv = found.uv.chi2;
-  track.ndfUv = found.uv.ndf;
-  track.chi2Sz = found.sz.chi2;
-  track.ndfSz = found.sz.ndf;
+  Track track = toTrack(found);
   FitInfo local;
   FitInfo& out = info != nullptr ? *info : local;
   out = FitInfo();

@@ -6,6 +6,7 @@
 
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
 
@@ -24,6 +25,10 @@ struct FoundTrack {
   std::uint16_t step = 0;
   bool fitBackward = false;
 };
+
+/// A Track with the finder's information (hits, estimates, fit quality);
+/// not yet fitted.
+Track toTrack(const FoundTrack& found);
 
 /// Output of the finder for one event.
 struct FindingResult {
