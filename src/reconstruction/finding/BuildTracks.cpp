@@ -28,7 +28,6 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
-#include <unordered_map>
 
 namespace conftrack::detail {
 
@@ -113,18 +112,26 @@ class SeedAutomaton {
     return (static_cast<std::uint64_t>(a) << 32) | b;
   }
 
-  /// The step-wide cell (a -> b), created on first use.
+  /// The step-wide cell (a -> b), created on first use. The cells leaving
+  /// a hit are few: a short list per start hit beats a hash map.
   std::uint32_t cellOf(ConfIndex a, ConfIndex b) {
-    auto [it, inserted] = m_lookup.try_emplace(
-        key(a, b), static_cast<std::uint32_t>(m_cells.size()));
-    if (inserted) {
-      m_cells.push_back(makeCell(a, b));
-      m_childBegin.push_back(kNotExpanded);
-      m_childCount.push_back(0);
-      m_visit.push_back(0);
-      m_local.push_back(0);
+    if (m_outgoing.empty()) {
+      m_outgoing.resize(m_hits.size());
     }
-    return it->second;
+    auto& out = m_outgoing[a];
+    for (const auto& [end, id] : out) {
+      if (end == b) {
+        return id;
+      }
+    }
+    auto id = static_cast<std::uint32_t>(m_cells.size());
+    out.emplace_back(b, id);
+    m_cells.push_back(makeCell(a, b));
+    m_childBegin.push_back(kNotExpanded);
+    m_childCount.push_back(0);
+    m_visit.push_back(0);
+    m_local.push_back(0);
+    return id;
   }
 
   /// Children of cell c: cells (end -> n) with n in the search window
@@ -143,56 +150,101 @@ class SeedAutomaton {
     double cu = m_hits.u[last] + 0.5 * d * parent.du;
     double cv = m_hits.v[last] + 0.5 * d * parent.dv;
     // Only hits inside the (u, v) angle cut can make or link a cell.
-    m_pool.cone(m_hits.u[last], m_hits.v[last], parent.du, parent.dv,
-                m_step.maxCellAngle, cu, cv, 0.625 * d, m_nb);
+    // The neighbour and angle cuts are applied inside the search, before
+    // its sort: in a long barrel most hits of the (u, v) cone lie at the
+    // wrong z. A cell depends only on its hits, so this is also the test of
+    // an existing cell.
+    const HitPool::RzCone rz{m_hits.z[last], m_hits.radius[last], parent.dz,
+                             parent.dr, m_step.maxCellAngleRZ};
+    m_pool.cone(
+        m_hits.u[last], m_hits.v[last], parent.du, parent.dv,
+        m_step.maxCellAngle, cu, cv, 0.625 * d, m_nb,
+        [&](ConfIndex n) {
+          return acceptNeighbour(last, n) &&
+                 anglesPass(parent, makeCell(last, n));
+        },
+        &rz);
     m_children.clear();
     for (ConfIndex n : m_nb) {
-      if (!acceptNeighbour(last, n)) {
-        continue;
-      }
-      auto it = m_lookup.find(key(last, n));
-      if (it != m_lookup.end()) {
-        if (anglesPass(parent, m_cells[it->second])) {
-          m_children.push_back(it->second);
-        }
-        continue;
-      }
-      if (anglesPass(parent, makeCell(last, n))) {
-        m_children.push_back(cellOf(last, n));
-      }
+      m_children.push_back(cellOf(last, n));
     }
     m_childBegin[c] = static_cast<std::uint32_t>(m_childPool.size());
     m_childCount[c] = static_cast<std::uint32_t>(m_children.size());
     m_childPool.insert(m_childPool.end(), m_children.begin(), m_children.end());
   }
 
+  /// The cuts on a seed cell (seed -> n).
+  bool seedCellPasses(ConfIndex seed, ConfIndex n) const {
+    if (!acceptNeighbour(seed, n)) {
+      return false;
+    }
+    double dxy =
+        std::hypot(m_hits.x[n] - m_hits.x[seed], m_hits.y[n] - m_hits.y[seed]);
+    double dz = std::abs(m_hits.z[n] - m_hits.z[seed]);
+    if (dz > m_step.slopeZRange * dxy) {
+      return false;
+    }
+    if (m_step.maxSeedZ0 < std::numeric_limits<double>::infinity()) {
+      // z of the cell's (R, z) line at R = 0: |z_s - dz/dR R_s| <= cut,
+      // multiplied out (no division for equal radii).
+      double dr = m_hits.radius[n] - m_hits.radius[seed];
+      double zr = m_hits.z[seed] * dr -
+                  (m_hits.z[n] - m_hits.z[seed]) * m_hits.radius[seed];
+      if (std::abs(zr) > m_step.maxSeedZ0 * std::abs(dr)) {
+        return false;
+      }
+    }
+    double length =
+        std::hypot(m_hits.u[n] - m_hits.u[seed], m_hits.v[n] - m_hits.v[seed]);
+    if (length > m_step.maxDistance) {
+      return false;
+    }
+    double dphi = std::abs(m_hits.phi[n] - m_hits.phi[seed]);
+    return std::min(dphi, 2.0 * std::numbers::pi - dphi) <=
+           m_step.maxSeedDeltaPhi;
+  }
+
+  /// With a z0 cut, the seed cells lie in the (z, R) cone with apex at the
+  /// seed spanned by the lines from (-z0max, 0) and (+z0max, 0) through it
+  /// (outwards; inwards the opposite cone). Returns false without a cut.
+  bool seedRzCone(ConfIndex seed, HitPool::RzCone& cone) const {
+    if (!(m_step.maxSeedZ0 < std::numeric_limits<double>::infinity())) {
+      return false;
+    }
+    const double zs = m_hits.z[seed];
+    const double rs = m_hits.radius[seed];
+    const double sign = m_insideOut ? 1.0 : -1.0;
+    double az = zs + m_step.maxSeedZ0;
+    double ar = rs;
+    double an = std::hypot(az, ar);
+    double bz = zs - m_step.maxSeedZ0;
+    double br = rs;
+    double bn = std::hypot(bz, br);
+    double cz = az / an + bz / bn;
+    double cr = ar / an + br / bn;
+    double cn = std::hypot(cz, cr);
+    cone = {zs, rs, sign * cz / cn, sign * cr / cn,
+            0.5 * std::acos(
+                      std::clamp((az * bz + ar * br) / (an * bn), -1.0, 1.0))};
+    return true;
+  }
+
   void seedCells(ConfIndex seed) {
+    auto passes = [&](ConfIndex n) { return seedCellPasses(seed, n); };
     if (m_step.radialSearch) {
-      m_pool.disc(m_hits.u[seed], m_hits.v[seed], m_step.maxDistance, m_nb);
+      // Only hits within the seed azimuth cap (and the z0 cone) can make a
+      // seed cell: the cuts are applied inside the search, before its sort.
+      HitPool::RzCone cone{};
+      bool useCone = seedRzCone(seed, cone);
+      m_pool.discWindow(m_hits.u[seed], m_hits.v[seed], m_step.maxDistance,
+                        m_hits.phi[seed], m_step.maxSeedDeltaPhi, m_nb, passes,
+                        useCone ? &cone : nullptr);
     } else {
       m_pool.azimuthWindow(m_hits.phi[seed], m_state.config.thetaRange, m_nb);
+      std::erase_if(m_nb, [&](ConfIndex n) { return !passes(n); });
     }
     m_seedCells.clear();
     for (ConfIndex n : m_nb) {
-      if (!acceptNeighbour(seed, n)) {
-        continue;
-      }
-      double dxy = std::hypot(m_hits.x[n] - m_hits.x[seed],
-                              m_hits.y[n] - m_hits.y[seed]);
-      double dz = std::abs(m_hits.z[n] - m_hits.z[seed]);
-      if (dz > m_step.slopeZRange * dxy) {
-        continue;
-      }
-      double length = std::hypot(m_hits.u[n] - m_hits.u[seed],
-                                 m_hits.v[n] - m_hits.v[seed]);
-      if (length > m_step.maxDistance) {
-        continue;
-      }
-      double dphi = std::abs(m_hits.phi[n] - m_hits.phi[seed]);
-      if (std::min(dphi, 2.0 * std::numbers::pi - dphi) >
-          m_step.maxSeedDeltaPhi) {
-        continue;
-      }
       m_seedCells.push_back(cellOf(seed, n));
     }
   }
@@ -439,7 +491,8 @@ class SeedAutomaton {
   bool m_overflowCells = false;
   // Step-wide cell graph (children computed once per cell).
   std::vector<Cell> m_cells;
-  std::unordered_map<std::uint64_t, std::uint32_t> m_lookup;
+  /// Per start hit: (end hit, cell) of the cells created so far.
+  std::vector<std::vector<std::pair<ConfIndex, std::uint32_t>>> m_outgoing;
   std::vector<std::uint32_t> m_childBegin;
   std::vector<std::uint32_t> m_childCount;
   std::vector<std::uint32_t> m_childPool;
@@ -468,6 +521,12 @@ void buildTracks(FinderState& state, const FindingStep& step,
                  StepStats& stats) {
   SeedAutomaton automaton(state, step, pool, stats);
   std::vector<ConfIndex> seeds = pool.members();  // innermost first
+  if (!step.seedCollections.empty()) {
+    std::erase_if(seeds, [&](ConfIndex h) {
+      return std::find(step.seedCollections.begin(), step.seedCollections.end(),
+                       state.hits.subdetector[h]) == step.seedCollections.end();
+    });
+  }
   if (step.direction == SearchDirection::eOutsideIn) {
     std::reverse(seeds.begin(), seeds.end());
   }

@@ -202,8 +202,9 @@ class Extender {
             double dUv = chain.uv.deltaChi2(m_hits, h);
             double dSz = chain.sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h],
                                             m_hits.varRxy[h]);
-            if (increase(chain.uv.chi2, chain.uv.ndf, dUv) > m_step.chi2Cut ||
-                increase(chain.sz.chi2, chain.sz.ndf, dSz) > m_step.chi2Cut) {
+            const double cut = m_step.chi2CutAt(chain.uv.pt(m_state.bzForPt));
+            if (increase(chain.uv.chi2, chain.uv.ndf, dUv) > cut ||
+                increase(chain.sz.chi2, chain.sz.ndf, dSz) > cut) {
               continue;
             }
             double chi2 = dUv + dSz;
@@ -325,8 +326,14 @@ class Extender {
     double rzDz = m_hits.z[last] - m_hits.z[prev];
     double rzDr = m_hits.radius[last] - m_hits.radius[prev];
     double rzNorm = std::hypot(rzDz, rzDr);
+    // The (z, R) angle cut below as a cone around that chord: only the
+    // layer bins it reaches are searched.
+    const HitPool::RzCone rzCone{
+        m_hits.z[last], m_hits.radius[last], rzNorm > 0.0 ? rzDz / rzNorm : 0.0,
+        rzNorm > 0.0 ? rzDr / rzNorm : 1.0, factor * m_step.maxCellAngleRZ};
     // Arc length of the end being extended (0 for the first hit).
     const double sLast = m_inward ? 0.0 : sz.lastS;
+    const double chi2Cut = m_step.chi2CutAt(uv.pt(m_state.bzForPt));
     bool predicted = false;
     // Arc length of the nearest layer with compatible hits so far, as a
     // distance from the end being extended.
@@ -341,7 +348,7 @@ class Extender {
         }
         m_window.clear();
         m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
-                           m_window);
+                           m_window, rzNorm > 0.0 ? &rzCone : nullptr);
         for (ConfIndex h : m_window) {
           if (h == excluded || m_state.used[h] != 0 ||
               onSensorOf(chain.hits, h)) {
@@ -379,8 +386,8 @@ class Extender {
           }
           double dSz =
               sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h]);
-          if (increase(uv.chi2, uv.ndf, dUv) > m_step.chi2Cut ||
-              increase(sz.chi2, sz.ndf, dSz) > m_step.chi2Cut) {
+          if (increase(uv.chi2, uv.ndf, dUv) > chi2Cut ||
+              increase(sz.chi2, sz.ndf, dSz) > chi2Cut) {
             continue;
           }
           if (dist < firstS - 1e-6) {

@@ -84,10 +84,11 @@ bool fitCandidate(const FinderState& state, const FindingStep& step,
     return false;
   }
   out.pt = out.uv.pt(state.bzForPt);
-  if (out.sz.chi2PerNdf() > step.chi2Cut) {
+  const double cut = step.chi2CutAt(out.pt);
+  if (out.sz.chi2PerNdf() > cut) {
     return false;
   }
-  return step.onlySzChi2Cut || out.uv.chi2PerNdf() <= step.chi2Cut;
+  return step.onlySzChi2Cut || out.uv.chi2PerNdf() <= cut;
 }
 
 }  // namespace conftrack::detail

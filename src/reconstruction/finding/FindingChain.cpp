@@ -4,6 +4,8 @@
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 
+#include <algorithm>
+
 namespace conftrack {
 
 namespace {
@@ -33,6 +35,30 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
     }
     s.collections.push_back(*sub);
   }
+  if (t.has("seed_collections")) {
+    for (const std::string& c : t.getStringArray("seed_collections")) {
+      std::optional<std::uint16_t> sub = detector.findSubdetector(c);
+      if (!sub) {
+        t.fail("seed_collections", "detector '" + detector.name() +
+                                       "' has no subdetector '" + c + "'");
+      }
+      if (std::find(s.seedCollections.begin(), s.seedCollections.end(), *sub) !=
+          s.seedCollections.end()) {
+        t.fail("seed_collections", "subdetector '" + c + "' listed twice");
+      }
+      if (!s.collections.empty() &&
+          std::find(s.collections.begin(), s.collections.end(), *sub) ==
+              s.collections.end()) {
+        t.fail("seed_collections",
+               "subdetector '" + c + "' is not among the step's collections");
+      }
+      s.seedCollections.push_back(*sub);
+    }
+    if (s.seedCollections.empty()) {
+      t.fail("seed_collections",
+             "must not be empty (leave it out to seed from every hit)");
+    }
+  }
   if (first && s.collections.empty()) {
     t.fail("collections",
            "the first step must name its collections (an empty list reuses "
@@ -61,6 +87,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
   s.maxCellAngleRZ =
       t.getDouble("max_cell_angle_rz", Range{0.0, 3.14159, false, true});
   s.chi2Cut = t.getDouble("chi2_cut", Range::positive());
+  s.chi2PtScale =
+      t.getDouble("chi2_cut_pt_scale_GeV", s.chi2PtScale, Range::nonNegative());
   s.minHits =
       static_cast<std::uint32_t>(t.getInt("min_hits", Range::closed(3, 100)));
   s.maxDistance = t.getDouble("max_distance", Range{0.0, 1.0, false, true});
@@ -68,6 +96,7 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
   s.highPtCut = t.getDouble("high_pt_cut_GeV", Range::nonNegative());
   s.maxSeedDeltaPhi = t.getDouble("max_seed_dphi", s.maxSeedDeltaPhi,
                                   Range{0.0, 3.15, false, true});
+  s.maxSeedZ0 = t.getDouble("max_seed_z0_mm", s.maxSeedZ0, Range::positive());
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
+#include <optional>
 
 namespace conftrack {
 
@@ -103,6 +105,156 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
     m_layerRc.back().first = std::min(m_layerRc.back().first, rc);
     m_layerRc.back().second = std::max(m_layerRc.back().second, rc);
   }
+  // Bins along each layer's long coordinate, about kHitsPerBin members
+  // each, filled in azimuth order (a counting sort keeps it per bin).
+  constexpr std::size_t kHitsPerBin = 32;
+  constexpr std::size_t kMaxBins = 256;
+  m_binHits.reserve(m_layerHits.size());
+  m_binPhis.reserve(m_layerHits.size());
+  std::vector<std::uint32_t> binOfHit;
+  for (std::size_t k = 0; k < m_layers.size(); ++k) {
+    auto [begin, end] = m_layerRange[k];
+    LayerBins b;
+    b.zMin = b.rMin = std::numeric_limits<double>::infinity();
+    b.zMax = b.rMax = -b.zMin;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      ConfIndex h = m_layerHits[i];
+      b.zMin = std::min(b.zMin, hits.z[h]);
+      b.zMax = std::max(b.zMax, hits.z[h]);
+      b.rMin = std::min(b.rMin, hits.radius[h]);
+      b.rMax = std::max(b.rMax, hits.radius[h]);
+    }
+    b.alongZ = b.zMax - b.zMin >= b.rMax - b.rMin;
+    b.wMin = b.alongZ ? b.zMin : b.rMin;
+    double wMax = b.alongZ ? b.zMax : b.rMax;
+    b.nBins = static_cast<std::uint32_t>(
+        std::clamp<std::size_t>((end - begin) / kHitsPerBin, 1, kMaxBins));
+    b.binWidth = (wMax - b.wMin) / b.nBins;
+    if (!(b.binWidth > 0.0)) {
+      b.nBins = 1;
+    }
+    b.firstBin = static_cast<std::uint32_t>(m_binRange.size());
+    binOfHit.resize(end - begin);
+    std::vector<std::uint32_t> count(b.nBins + 1, 0);
+    for (std::uint32_t i = begin; i < end; ++i) {
+      ConfIndex h = m_layerHits[i];
+      binOfHit[i - begin] = b.binOf(b.alongZ ? hits.z[h] : hits.radius[h]);
+      ++count[binOfHit[i - begin] + 1];
+    }
+    std::partial_sum(count.begin(), count.end(), count.begin());
+    auto offset = static_cast<std::uint32_t>(m_binHits.size());
+    for (std::uint32_t n = 0; n < b.nBins; ++n) {
+      m_binRange.emplace_back(offset + count[n], offset + count[n + 1]);
+    }
+    m_binHits.resize(offset + (end - begin));
+    m_binPhis.resize(offset + (end - begin));
+    for (std::uint32_t i = begin; i < end; ++i) {
+      std::uint32_t slot = offset + count[binOfHit[i - begin]]++;
+      m_binHits[slot] = m_layerHits[i];
+      m_binPhis[slot] = m_layerPhis[i];
+    }
+    m_layerBins.push_back(b);
+  }
+}
+
+std::uint32_t HitPool::LayerBins::binOf(double w) const {
+  if (nBins <= 1) {
+    return 0;
+  }
+  double x = std::floor((w - wMin) / binWidth);
+  if (!(x > 0.0)) {
+    return 0;
+  }
+  return x >= nBins - 1 ? nBins - 1 : static_cast<std::uint32_t>(x);
+}
+
+HitPool::PreparedRz::PreparedRz(const RzCone& rz) : cone(rz) {
+  // A margin on the angle: members passing the caller's exact angle cut
+  // must not be lost to rounding.
+  const double a = rz.halfAngle + 1e-9;
+  if (!(a < 0.5 * std::numbers::pi)) {
+    unbounded = true;
+    return;
+  }
+  const double psi = std::atan2(rz.dr, rz.dz);
+  edgeZ[0] = std::cos(psi - a);
+  edgeR[0] = std::sin(psi - a);
+  edgeZ[1] = std::cos(psi + a);
+  edgeR[1] = std::sin(psi + a);
+}
+
+bool HitPool::rzRange(const PreparedRz& p, const LayerBins& b, double& wLo,
+                      double& wHi) {
+  if (p.unbounded) {
+    wLo = -std::numeric_limits<double>::infinity();
+    wHi = std::numeric_limits<double>::infinity();
+    return true;
+  }
+  const RzCone& rz = p.cone;
+  // The cone is convex: the extremes of w over its intersection with the
+  // layer's (z, R) box lie at vertices of that polygon, i.e. box corners
+  // inside the cone, intersections of the cone's edges with the box's
+  // edges, and the apex if inside the box.
+  wLo = std::numeric_limits<double>::infinity();
+  wHi = -wLo;
+  auto add = [&](double z, double r) {
+    double w = b.alongZ ? z : r;
+    wLo = std::min(wLo, w);
+    wHi = std::max(wHi, w);
+  };
+  // The cone (half-angle below pi/2) is the intersection of the half-planes
+  // left of its first edge and right of its second. Box corners: inside
+  // both, or a quick rejection if all lie outside one of them.
+  int outside1 = 0;
+  int outside2 = 0;
+  for (double z : {b.zMin, b.zMax}) {
+    for (double r : {b.rMin, b.rMax}) {
+      double pz = z - rz.z;
+      double pr = r - rz.r;
+      bool in1 = p.edgeZ[0] * pr - p.edgeR[0] * pz >= 0.0;
+      bool in2 = pz * p.edgeR[1] - pr * p.edgeZ[1] >= 0.0;
+      outside1 += in1 ? 0 : 1;
+      outside2 += in2 ? 0 : 1;
+      if (in1 && in2) {
+        add(z, r);
+      }
+    }
+  }
+  if (outside1 == 4 || outside2 == 4) {
+    return false;
+  }
+  if (rz.z >= b.zMin && rz.z <= b.zMax && rz.r >= b.rMin && rz.r <= b.rMax) {
+    add(rz.z, rz.r);
+  }
+  for (int e = 0; e < 2; ++e) {
+    const double ez = p.edgeZ[e];
+    const double er = p.edgeR[e];
+    if (ez != 0.0) {
+      for (double z : {b.zMin, b.zMax}) {
+        double t = (z - rz.z) / ez;
+        double r = rz.r + t * er;
+        if (t >= 0.0 && r >= b.rMin && r <= b.rMax) {
+          add(z, r);
+        }
+      }
+    }
+    if (er != 0.0) {
+      for (double r : {b.rMin, b.rMax}) {
+        double t = (r - rz.r) / er;
+        double z = rz.z + t * ez;
+        if (t >= 0.0 && z >= b.zMin && z <= b.zMax) {
+          add(z, r);
+        }
+      }
+    }
+  }
+  if (wLo > wHi) {
+    return false;
+  }
+  const double margin = 1e-6 * (1.0 + std::max(std::abs(wLo), std::abs(wHi)));
+  wLo -= margin;
+  wHi += margin;
+  return true;
 }
 
 HitPool::~HitPool() = default;
@@ -126,6 +278,72 @@ void HitPool::disc(double u, double v, double radius,
   out.reserve(found.size());
   for (const auto& f : found) {
     out.push_back(m_members[f.first]);
+  }
+}
+
+void HitPool::discWindow(double u, double v, double radius, double phi,
+                         double halfWidth, std::vector<ConfIndex>& out,
+                         const std::function<bool(ConfIndex)>& keep,
+                         const RzCone* rz) const {
+  out.clear();
+  if (halfWidth >= std::numbers::pi && rz == nullptr) {
+    disc(u, v, radius, out);
+    if (keep) {
+      std::erase_if(out, [&](ConfIndex h) { return !keep(h); });
+    }
+    return;
+  }
+  // Squared distances as nanoflann computes them (query - point, strict
+  // comparison), so that the set and its order are exactly disc()'s.
+  const double r2 = radius * radius;
+  const double rc = std::sqrt(u * u + v * v);
+  const bool all = halfWidth >= std::numbers::pi;  // with a (z, R) cone
+  std::vector<std::pair<ConfIndex, double>> found;
+  std::vector<ConfIndex> window;
+  std::optional<PreparedRz> prepared;
+  if (rz != nullptr) {
+    prepared.emplace(*rz);
+  }
+  for (std::size_t k = 0; k < m_layers.size(); ++k) {
+    // A member within the disc has |rc_h - rc| < radius (margin for
+    // rounding).
+    if (m_layerRc[k].second < rc - radius - 1e-12 ||
+        m_layerRc[k].first > rc + radius + 1e-12) {
+      continue;
+    }
+    window.clear();
+    const double half = all ? 2.0 * std::numbers::pi : halfWidth + 1e-9;
+    if (rz == nullptr) {
+      auto [begin, end] = m_layerRange[k];
+      collectWindow(m_layerPhis, m_layerHits, begin, end, phi, half, window);
+    } else {
+      const LayerBins& bins = m_layerBins[k];
+      double wLo = 0.0;
+      double wHi = 0.0;
+      if (!rzRange(*prepared, bins, wLo, wHi)) {
+        continue;
+      }
+      const std::uint32_t last = bins.binOf(wHi);
+      for (std::uint32_t n = bins.binOf(wLo); n <= last; ++n) {
+        auto [begin, end] = m_binRange[bins.firstBin + n];
+        collectWindow(m_binPhis, m_binHits, begin, end, phi, half, window);
+      }
+    }
+    for (ConfIndex h : window) {
+      double du = u - m_hits->u[h];
+      double dv = v - m_hits->v[h];
+      double d2 = du * du + dv * dv;
+      if (d2 < r2 && (!keep || keep(h))) {
+        found.emplace_back(h, d2);
+      }
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) {
+    return a.second != b.second ? a.second < b.second : a.first < b.first;
+  });
+  out.reserve(found.size());
+  for (const auto& f : found) {
+    out.push_back(f.first);
   }
 }
 
@@ -232,7 +450,9 @@ bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
 
 void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
                    double discU, double discV, double discRadius,
-                   std::vector<ConfIndex>& out) const {
+                   std::vector<ConfIndex>& out,
+                   const std::function<bool(ConfIndex)>& keep,
+                   const RzCone* rz) const {
   out.clear();
   // The cone cut off by the disc: a triangle reaching past the disc's far
   // edge (length / cos keeps the triangle around the circular cap).
@@ -260,8 +480,19 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
   double discCentreRc = std::sqrt(discU * discU + discV * discV);
   double rcLow = discCentreRc - discRadius;
   double rcHigh = discCentreRc + discRadius;
+  std::optional<PreparedRz> prepared;
+  if (rz != nullptr) {
+    prepared.emplace(*rz);
+  }
   for (std::size_t k = 0; k < m_layers.size(); ++k) {
     if (m_layerRc[k].second < rcLow || m_layerRc[k].first > rcHigh) {
+      continue;
+    }
+    // The (z, R) cone first: it skips most layers of a long barrel or of
+    // many disks at once.
+    double wLo = 0.0;
+    double wHi = 0.0;
+    if (prepared && !rzRange(*prepared, m_layerBins[k], wLo, wHi)) {
       continue;
     }
     double centre = 0.0;
@@ -271,9 +502,19 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
       continue;
     }
     std::size_t before = out.size();
-    auto [begin, end] = m_layerRange[k];
-    collectWindow(m_layerPhis, m_layerHits, begin, end, centre, half + kMargin,
-                  out);
+    if (!prepared) {
+      auto [begin, end] = m_layerRange[k];
+      collectWindow(m_layerPhis, m_layerHits, begin, end, centre,
+                    half + kMargin, out);
+    } else {
+      const LayerBins& bins = m_layerBins[k];
+      const std::uint32_t last = bins.binOf(wHi);
+      for (std::uint32_t n = bins.binOf(wLo); n <= last; ++n) {
+        auto [begin, end] = m_binRange[bins.firstBin + n];
+        collectWindow(m_binPhis, m_binHits, begin, end, centre, half + kMargin,
+                      out);
+      }
+    }
     // Exact cuts: inside the disc and the cone.
     std::size_t kept = before;
     const double cos2 = cosCut * cosCut * (1.0 - 1e-12);
@@ -287,7 +528,7 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
       double a2 = au * au + av * av;
       // Inside the disc, and within the cone: dot >= cos * |a|.
       if (eu * eu + ev * ev <= r2 && a2 > 0.0 && dot > 0.0 &&
-          dot * dot >= cos2 * a2) {
+          dot * dot >= cos2 * a2 && (!keep || keep(h))) {
         out[kept++] = h;
       }
     }
@@ -321,15 +562,28 @@ void HitPool::azimuthWindow(double phi, double halfWidth,
 }
 
 void HitPool::layerWindow(std::uint32_t layer, double phi, double halfWidth,
-                          std::vector<ConfIndex>& out) const {
+                          std::vector<ConfIndex>& out, const RzCone* rz) const {
   auto it = std::lower_bound(m_layers.begin(), m_layers.end(), layer);
   if (it == m_layers.end() || *it != layer) {
     return;
   }
-  auto [begin, end] = m_layerRange[it - m_layers.begin()];
-  std::size_t before = out.size();
-  collectWindow(m_layerPhis, m_layerHits, begin, end, phi, halfWidth, out);
-  std::sort(out.begin() + static_cast<std::ptrdiff_t>(before), out.end());
+  const auto k = static_cast<std::size_t>(it - m_layers.begin());
+  if (rz == nullptr) {
+    auto [begin, end] = m_layerRange[k];
+    collectWindow(m_layerPhis, m_layerHits, begin, end, phi, halfWidth, out);
+    return;
+  }
+  const LayerBins& bins = m_layerBins[k];
+  double wLo = 0.0;
+  double wHi = 0.0;
+  if (!rzRange(PreparedRz(*rz), bins, wLo, wHi)) {
+    return;
+  }
+  const std::uint32_t last = bins.binOf(wHi);
+  for (std::uint32_t n = bins.binOf(wLo); n <= last; ++n) {
+    auto [begin, end] = m_binRange[bins.firstBin + n];
+    collectWindow(m_binPhis, m_binHits, begin, end, phi, halfWidth, out);
+  }
 }
 
 }  // namespace conftrack

@@ -6,8 +6,10 @@
 
 #include "conftrack/geometry/Detector.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,9 @@ struct FindingStep {
   /// Subdetector indices whose hits form the step's pool; empty: reuse the
   /// previous step's pool (upstream: no CombineCollections).
   std::vector<std::uint16_t> collections;
+  /// Subdetector indices whose hits may seed a build (a subset of the
+  /// pool's); empty: every pool hit seeds (as upstream).
+  std::vector<std::uint16_t> seedCollections;
   /// Actions, run in this order when set.
   bool build = false;   ///< BuildNewTracks
   bool extend = false;  ///< ExtendTracks
@@ -37,6 +42,20 @@ struct FindingStep {
   /// Maximum chi2/ndf of a candidate (each of uv and sz), and maximum
   /// increase of chi2/ndf when an extension adds a hit.
   double chi2Cut = 100.0;
+  /// pT scale of the chi2 cuts [GeV] (0: off, as upstream). Below it the
+  /// cuts grow as (chi2PtScale / pT)^2, pT being the candidate's estimate:
+  /// the fits know only the hit errors, and multiple-scattering residuals
+  /// grow as 1/p, so with thin, precise layers a fixed cut either rejects
+  /// low-pT tracks or admits everything at high pT.
+  double chi2PtScale = 0.0;
+  /// The chi2 cut for a candidate of transverse momentum `pt` [GeV].
+  double chi2CutAt(double pt) const {
+    if (chi2PtScale > 0.0 && pt < chi2PtScale) {
+      double r = chi2PtScale / std::max(pt, 1e-3);
+      return chi2Cut * r * r;
+    }
+    return chi2Cut;
+  }
   /// Minimum number of hits of a built candidate.
   std::uint32_t minHits = 4;
   /// Seeding disc radius, maximum seed-cell length, scale of the cell
@@ -49,6 +68,12 @@ struct FindingStep {
   /// the conformal disc holds every hit of the inner layers at any
   /// azimuth, so without this cut a seed pairs with nearly all hits.
   double maxSeedDeltaPhi = 3.14159265358979323846;
+  /// Maximum |z| at R = 0 of the straight line through the two hits of a
+  /// seed cell in (R, z) [mm] (infinity: no cut, as upstream). For prompt
+  /// steps in a long barrel with a short luminous region: without it a
+  /// seed pairs with the hits of the next layer at every z that the slope
+  /// cut admits.
+  double maxSeedZ0 = std::numeric_limits<double>::infinity();
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).

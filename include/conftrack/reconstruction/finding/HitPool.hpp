@@ -9,6 +9,7 @@
 
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -16,6 +17,17 @@ namespace conftrack {
 
 class HitPool {
  public:
+  /// A cone in the (z, R) plane: apex, unit axis and half-angle [rad].
+  /// Limits cone() searches on each layer to the part of the layer (its
+  /// members' z and R ranges) inside the cone.
+  struct RzCone {
+    double z;
+    double r;
+    double dz;
+    double dr;
+    double halfAngle;
+  };
+
   /// Indexes `members` (conformal-hit indices; any order).
   HitPool(const ConformalHits& hits, std::vector<ConfIndex> members);
   ~HitPool();
@@ -27,21 +39,43 @@ class HitPool {
   /// Members within `radius` of (u, v), by distance then index.
   void disc(double u, double v, double radius,
             std::vector<ConfIndex>& out) const;
+  /// Members within `radius` of (u, v) whose azimuth lies within
+  /// `halfWidth` of `phi` (plus a 1e-9 rad margin, for the caller's exact
+  /// cut), by distance then index: the hits of disc() in that window, in
+  /// the same order, but only the window of each layer is examined (a disc
+  /// around an outer-layer seed holds every hit of the layers beyond it).
+  /// `keep` and `rz` as in cone().
+  void discWindow(double u, double v, double radius, double phi,
+                  double halfWidth, std::vector<ConfIndex>& out,
+                  const std::function<bool(ConfIndex)>& keep = {},
+                  const RzCone* rz = nullptr) const;
   /// Members within the disc (discU, discV, discRadius) and inside the
   /// cone with apex (u, v), unit axis (du, dv) and half-angle `halfAngle`,
   /// by distance to the disc centre then index. The same hits as disc()
   /// followed by an angle cut, but each layer is searched only in the
   /// azimuth window that the cone covers on it (algorithm.md 14.12).
+  /// If `keep` is given, only members for which it returns true are kept
+  /// (applied before sorting: the same result as filtering afterwards, at
+  /// the cost of sorting only the survivors). If `rz` is given, only
+  /// members inside that (z, R) cone can be returned (a superset of them
+  /// is examined: the layer bins along z, or R on disks, that the cone
+  /// reaches).
   void cone(double u, double v, double du, double dv, double halfAngle,
             double discU, double discV, double discRadius,
-            std::vector<ConfIndex>& out) const;
+            std::vector<ConfIndex>& out,
+            const std::function<bool(ConfIndex)>& keep = {},
+            const RzCone* rz = nullptr) const;
   /// Members with |phi - centre| <= halfWidth (wrapped), by |dphi| then
   /// index.
   void azimuthWindow(double phi, double halfWidth,
                      std::vector<ConfIndex>& out) const;
-  /// Members on one detector layer with azimuth in the window, by index.
+  /// Appends the members on one detector layer with azimuth in the window
+  /// (unordered: callers choose among them by a total order). With `rz`,
+  /// only the layer bins that the (z, R) cone reaches are examined (a
+  /// superset of the members inside it).
   void layerWindow(std::uint32_t layer, double phi, double halfWidth,
-                   std::vector<ConfIndex>& out) const;
+                   std::vector<ConfIndex>& out,
+                   const RzCone* rz = nullptr) const;
   /// Detector layers that have members, ascending.
   const std::vector<std::uint32_t>& layers() const { return m_layers; }
 
@@ -60,6 +94,31 @@ class HitPool {
   std::vector<std::pair<double, double>> m_layerRc;
   std::vector<ConfIndex> m_layerHits;
   std::vector<double> m_layerPhis;
+  /// Per layer: its members binned along the layer's long coordinate w (z
+  /// on barrel layers, R on disks: whichever range is longer), each bin
+  /// sorted by azimuth, for the (z, R) cone of cone().
+  struct LayerBins {
+    bool alongZ = true;
+    double zMin = 0.0, zMax = 0.0, rMin = 0.0, rMax = 0.0;
+    double wMin = 0.0, binWidth = 0.0;
+    std::uint32_t nBins = 1;
+    std::uint32_t firstBin = 0;  ///< into m_binRange
+    std::uint32_t binOf(double w) const;
+  };
+  /// An RzCone with its trigonometry done once per search.
+  struct PreparedRz {
+    explicit PreparedRz(const RzCone& rz);
+    RzCone cone;
+    bool unbounded = false;  ///< half-angle >= pi/2: no restriction
+    double edgeZ[2] = {0.0, 0.0}, edgeR[2] = {0.0, 0.0};
+  };
+  /// Range of w of the layer's part inside `rz`; false if none.
+  static bool rzRange(const PreparedRz& rz, const LayerBins& bins, double& wLo,
+                      double& wHi);
+  std::vector<LayerBins> m_layerBins;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_binRange;
+  std::vector<ConfIndex> m_binHits;
+  std::vector<double> m_binPhis;
 };
 
 }  // namespace conftrack
