@@ -5,13 +5,13 @@
 // (with it, crossings after +20 fall outside the 10 ns window and 60 BX
 // looks like 30): the point is the cost versus the number of hits.
 
-#include <benchmark/benchmark.h>
-
-#include <map>
-
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
 
 namespace {
 

@@ -1,7 +1,7 @@
 #include "conftrack/simulation/Simulator.hpp"
 
-#include "conftrack/simulation/HitSmearing.hpp"
 #include "conftrack/geometry/MaterialInteractions.hpp"
+#include "conftrack/simulation/HitSmearing.hpp"
 #include "conftrack/simulation/generators/PdgTable.hpp"
 
 #include <Eigen/Geometry>

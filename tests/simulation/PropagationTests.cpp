@@ -6,8 +6,8 @@
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/Helix.hpp"
-#include "conftrack/simulation/Simulator.hpp"
 #include "conftrack/geometry/SurfaceNavigator.hpp"
+#include "conftrack/simulation/Simulator.hpp"
 
 #include <gtest/gtest.h>
 
