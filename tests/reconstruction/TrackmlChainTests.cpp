@@ -4,13 +4,18 @@
 /// simulation of the TrackML detector with 17 % noise and pT > 0.15 GeV, as
 /// `conftrack simulate-trackml` makes it, then finding, fit and selection
 /// as `conftrack reconstruct --detector trackml`, scored with the TrackML
-/// score (truth used only to score).
+/// score (truth used only to score). Also the finder settings and hit-pool
+/// searches added for it: the chain keys, and the (z, R)-restricted
+/// searches against the unrestricted ones on random hits of the TrackML
+/// layers (they must return the same hits after the finder's exact cuts).
 
 #include "conftrack/core/Error.hpp"
 #include "conftrack/evaluation/TrackmlScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
 #include "conftrack/reconstruction/Reconstruction.hpp"
+#include "conftrack/reconstruction/finding/ConformalHits.hpp"
+#include "conftrack/reconstruction/finding/HitPool.hpp"
 #include "conftrack/simulation/TrackmlEvents.hpp"
 #include "conftrack/simulation/generators/HepMCText.hpp"
 
@@ -18,8 +23,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
+#include <numbers>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -64,6 +73,184 @@ std::vector<Particle> readKaggleParticles(const fs::path& file) {
   return particles;
 }
 
+TEST(TrackmlChain, ShippedChainSettings) {
+  const Detector detector = loadDetector("trackml");
+  const FinderConfig c = readChain(resolveChainPath("trackml"), detector);
+  ASSERT_EQ(c.steps.size(), 4u);
+  EXPECT_TRUE(c.steps[0].build && c.steps[0].straightLineFit &&
+              c.steps[0].radialSearch);
+  EXPECT_DOUBLE_EQ(c.steps[0].maxSeedZ0, 20.0);
+  EXPECT_TRUE(c.steps[0].seedCollections.empty());
+  EXPECT_TRUE(c.steps[1].extend && !c.steps[1].build);
+  EXPECT_DOUBLE_EQ(c.steps[1].chi2PtScale, 1.0);
+  EXPECT_DOUBLE_EQ(c.steps[1].chi2CutAt(2.0), 300.0);
+  EXPECT_DOUBLE_EQ(c.steps[1].chi2CutAt(0.5), 1200.0);
+  EXPECT_EQ(c.steps[2].collections.size(), 4u);
+  ASSERT_EQ(c.steps[2].seedCollections.size(), 2u);
+  EXPECT_EQ(c.steps[2].seedCollections[0],
+            *detector.findSubdetector("PixelBarrel"));
+  EXPECT_EQ(c.maxPathsPerSeed, 50u);
+
+  // The additions default to upstream's behaviour.
+  const Detector clic = loadDetector("clicdet");
+  for (const FindingStep& s :
+       readChain(resolveChainPath("clicdet"), clic).steps) {
+    EXPECT_EQ(s.maxSeedZ0, std::numeric_limits<double>::infinity());
+    EXPECT_TRUE(s.seedCollections.empty());
+    EXPECT_EQ(s.chi2PtScale, 0.0);
+    EXPECT_EQ(s.chi2CutAt(0.1), s.chi2Cut);
+  }
+}
+
+std::string chainError(const std::string& stepKeys) {
+  static const Detector det = loadDetector("trackml");
+  const std::string text = R"([[step]]
+name = "S0"
+collections = ["PixelBarrel"]
+actions = ["build"]
+max_cell_angle = 0.01
+max_cell_angle_rz = 0.01
+chi2_cut = 100.0
+min_hits = 4
+max_distance = 0.02
+slope_z_range = 10.0
+high_pt_cut_GeV = 10.0
+)" + stepKeys;
+  try {
+    parseChain(text, "chain.toml", det);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TrackmlChain, NewKeysAreValidated) {
+  EXPECT_EQ(chainError("max_seed_z0_mm = 20.0\n"
+                       "seed_collections = [\"PixelBarrel\"]\n"
+                       "chi2_cut_pt_scale_GeV = 1.0\n"),
+            "");
+  EXPECT_NE(chainError("max_seed_z0_mm = 0.0\n"), "");
+  EXPECT_NE(chainError("chi2_cut_pt_scale_GeV = -1.0\n"), "");
+  EXPECT_NE(chainError("seed_collections = []\n").find("must not be empty"),
+            std::string::npos);
+  EXPECT_NE(chainError("seed_collections = [\"Pixel\"]\n")
+                .find("no subdetector 'Pixel'"),
+            std::string::npos);
+  EXPECT_NE(chainError("seed_collections = [\"PixelEndcap\"]\n")
+                .find("not among the step's collections"),
+            std::string::npos);
+}
+
+/// Random hits uniform over the surfaces of all TrackML layers.
+std::vector<Hit> randomHits(const Detector& det, std::size_t perLayer) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Hit> hits;
+  for (const SensitiveLayer& l : det.layers()) {
+    for (std::size_t k = 0; k < perLayer; ++k) {
+      const double phi = std::numbers::pi * (2.0 * u(rng) - 1.0);
+      Hit h;
+      h.id = hits.size() + 1;
+      if (l.isDisk()) {
+        const double r = std::sqrt(
+            l.rMin * l.rMin + (l.rMax * l.rMax - l.rMin * l.rMin) * u(rng));
+        h.position = Vector3(r * std::cos(phi), r * std::sin(phi), l.z());
+      } else {
+        const double z = l.zMin + (l.zMax - l.zMin) * u(rng);
+        h.position = Vector3(l.r * std::cos(phi), l.r * std::sin(phi), z);
+      }
+      h.detId = l.id;
+      h.detId.module = l.moduleAt(h.position);
+      l.localAxes(h.position, h.uAxis, h.vAxis);
+      h.sigmaU = l.sigmaU;
+      h.sigmaV = l.sigmaV;
+      hits.push_back(h);
+    }
+  }
+  return hits;
+}
+
+/// The finder's exact (z, R) angle cut of a cell from the cone's apex.
+bool insideRz(const ConformalHits& ch, ConfIndex h, const HitPool::RzCone& c) {
+  const double dz = ch.z[h] - c.z;
+  const double dr = ch.radius[h] - c.r;
+  const double l = std::hypot(dz, dr);
+  if (!(l > 0.0)) {
+    return true;
+  }
+  const double ax = dz / l;
+  const double ay = dr / l;
+  return std::atan2(std::abs(ax * c.dr - ay * c.dz), ax * c.dz + ay * c.dr) <=
+         c.halfAngle;
+}
+
+TEST(TrackmlChain, RzRestrictedSearchesFindTheSameHits) {
+  const Detector det = loadDetector("trackml");
+  const std::vector<Hit> hits = randomHits(det, 400);
+  const ConformalHits ch = makeConformalHits(hits, det);
+  std::vector<ConfIndex> all(ch.size());
+  for (ConfIndex i = 0; i < ch.size(); ++i) {
+    all[i] = i;
+  }
+  const HitPool pool(ch, all);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::size_t nonEmpty = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const auto a = static_cast<ConfIndex>(u(rng) * (ch.size() - 1));
+    // A cone around a random direction from hit a, half-angle 1 mrad to
+    // 0.5 rad (the (z, R) cuts of the chains).
+    const double psi = std::numbers::pi * (2.0 * u(rng) - 1.0);
+    const double half = std::exp(std::log(1e-3) * u(rng) + std::log(0.5));
+    const HitPool::RzCone rz{ch.z[a], ch.radius[a], std::cos(psi),
+                             std::sin(psi), half * (0.002 + u(rng))};
+    auto keep = [&](ConfIndex h) { return h != a && insideRz(ch, h, rz); };
+    const double dphiCut = 0.05 + 0.3 * u(rng);
+    auto keepPhi = [&](ConfIndex h) {
+      double d = std::abs(ch.phi[h] - ch.phi[a]);
+      return keep(h) && std::min(d, 2.0 * std::numbers::pi - d) <= dphiCut;
+    };
+
+    // Seeding: the disc in a window, with and without the cone.
+    std::vector<ConfIndex> withRz;
+    std::vector<ConfIndex> reference;
+    pool.discWindow(ch.u[a], ch.v[a], 0.01, ch.phi[a], dphiCut, withRz, keepPhi,
+                    &rz);
+    pool.disc(ch.u[a], ch.v[a], 0.01, reference);
+    std::erase_if(reference, [&](ConfIndex h) { return !keepPhi(h); });
+    EXPECT_EQ(withRz, reference) << "discWindow, trial " << trial;
+
+    // Cell growth: the (u, v) cone, with and without the (z, R) cone.
+    const double t = std::numbers::pi * (2.0 * u(rng) - 1.0);
+    const double du = std::cos(t);
+    const double dv = std::sin(t);
+    const double d = 0.005 + 0.015 * u(rng);
+    const double cu = ch.u[a] + 0.5 * d * du;
+    const double cv = ch.v[a] + 0.5 * d * dv;
+    std::vector<ConfIndex> coneRz;
+    std::vector<ConfIndex> cone;
+    pool.cone(ch.u[a], ch.v[a], du, dv, 0.05, cu, cv, 0.625 * d, coneRz, keep,
+              &rz);
+    pool.cone(ch.u[a], ch.v[a], du, dv, 0.05, cu, cv, 0.625 * d, cone, keep);
+    EXPECT_EQ(coneRz, cone) << "cone, trial " << trial;
+
+    // Extension: one layer's azimuth window.
+    for (std::uint32_t layer : pool.layers()) {
+      std::vector<ConfIndex> windowRz;
+      std::vector<ConfIndex> window;
+      pool.layerWindow(layer, ch.phi[a], 0.2, windowRz, &rz);
+      pool.layerWindow(layer, ch.phi[a], 0.2, window);
+      for (auto* v : {&windowRz, &window}) {
+        std::erase_if(*v, [&](ConfIndex h) { return !keep(h); });
+        std::sort(v->begin(), v->end());
+      }
+      EXPECT_EQ(windowRz, window) << "layerWindow, trial " << trial;
+    }
+    nonEmpty += reference.empty() ? 0 : 1;
+  }
+  EXPECT_GT(nonEmpty, 30u);
+}
+
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   // The simulation as `conftrack simulate-trackml` (defaults: noise 17 %,
   // pT > 0.15 GeV, seed 1, real module ids from detectors.csv).
@@ -105,7 +292,7 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
       "%.4f, fake rate %.4f; finding %.0f ms, fitting %.0f ms, total %.0f ms\n",
       event.hits.size(), result.tracks.size(), score.score, score.efficiency,
       score.fakeRate, result.findingMs, result.fittingMs, ms);
-  // Measured 0.7593 (README "TrackML"); the issue's goal of 0.90 is not
+  // Measured 0.7601 (README "TrackML"); the issue's goal of 0.90 is not
   // reached (see the chain file). This guards the current level with a
   // margin of 0.02.
   EXPECT_GE(score.score, 0.74);
