@@ -14,6 +14,12 @@ double highlandTheta0(double p, double beta, double charge, double xOverX0) {
          std::sqrt(xOverX0) * bracket;
 }
 
+double scatteringTheta0(double p, double beta, double charge, double xOverX0,
+                        bool electron) {
+  return electron ? rossiGreisenTheta0(p, charge, xOverX0)
+                  : highlandTheta0(p, beta, charge, xOverX0);
+}
+
 double rossiGreisenTheta0(double p, double charge, double xOverX0) {
   const double bracket =
       std::max(0.0, 1.0 + 0.125 * std::log10(10.0 * xOverX0));

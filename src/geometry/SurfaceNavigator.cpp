@@ -22,6 +22,15 @@ Vector3 NavigationSurface::normal(const Vector3& position) const {
   return {c * norm, s * norm, -coneSlope * norm};
 }
 
+double NavigationSurface::xOverX0(const Vector3& position,
+                                  const Vector3& direction,
+                                  double minCosIncidence) const {
+  const double cosIncidence =
+      std::max(std::abs(direction.dot(normal(position))),
+               std::max(minCosIncidence, grazingCos));
+  return thicknessX0 / cosIncidence;
+}
+
 SurfaceNavigator::SurfaceNavigator(const Detector& detector) {
   for (std::size_t i = 0; i < detector.layers().size(); ++i) {
     const SensitiveLayer& l = detector.layers()[i];

@@ -174,14 +174,11 @@ std::uint32_t Simulator::simulateParticle(
     Vector3 direction = momentumIn / p;
     if (surface.thicknessX0 > 0.0 &&
         (m_config.multipleScattering || m_config.energyLoss)) {
-      const double cosIncidence =
-          std::max(std::abs(direction.dot(surface.normal(position))),
-                   std::max(m_config.minCosIncidence, surface.grazingCos));
-      const double xOverX0 = surface.thicknessX0 / cosIncidence;
+      const double xOverX0 =
+          surface.xOverX0(position, direction, m_config.minCosIncidence);
       if (m_config.multipleScattering) {
-        const double theta0 = isElectron
-                                  ? rossiGreisenTheta0(p, charge, xOverX0)
-                                  : highlandTheta0(p, beta, charge, xOverX0);
+        const double theta0 =
+            scatteringTheta0(p, beta, charge, xOverX0, isElectron);
         const double theta1 = theta0 * normal(rng);
         const double theta2 = theta0 * normal(rng);
         direction = deflect(direction, theta1, theta2);

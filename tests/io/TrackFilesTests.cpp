@@ -16,6 +16,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "TempDir.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -72,23 +74,8 @@ std::vector<Track> makeTracks() {
 
 class TrackFiles : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    m_dir = fs::temp_directory_path() /
-            ("conftrack_trackfiles_" + std::string(info->name()) + "_" +
-             std::to_string(::getpid()));
-    fs::remove_all(m_dir);
-    fs::create_directories(m_dir);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(m_dir, ec);
-  }
-
   fs::path write(const std::string& name, const std::string& text) {
-    fs::path file = m_dir / name;
-    std::ofstream(file, std::ios::binary) << text;
-    return file;
+    return test::writeText(m_dir / name, text);
   }
 
   /// Reads the two tables and returns the error, expected at `file:line`
@@ -112,7 +99,8 @@ class TrackFiles : public ::testing::Test {
     return "";
   }
 
-  fs::path m_dir;
+  test::TempDir m_tmp;
+  const fs::path& m_dir = m_tmp.path();
 };
 
 void expectSame(const std::vector<Track>& read,

@@ -22,6 +22,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "TempDir.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -30,30 +32,8 @@ namespace fs = std::filesystem;
 const fs::path kTrackmlDir =
     fs::path(CONFTRACK_SHARED_DIR) / "data/trackml/train_100_events_no_truth";
 
-/// A fresh, empty folder per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    m_path = fs::temp_directory_path() /
-             ("conftrack_io_" + std::string(info->test_suite_name()) + "_" +
-              info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(m_path);
-    fs::create_directories(m_path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(m_path, ec);
-  }
-  const fs::path& path() const { return m_path; }
-
- private:
-  fs::path m_path;
-};
-
-void writeText(const fs::path& file, const std::string& text) {
-  std::ofstream(file, std::ios::binary) << text;
-}
+using test::TempDir;
+using test::writeText;
 
 const Detector& clicdet() {
   static const Detector detector = loadDetector("clicdet");

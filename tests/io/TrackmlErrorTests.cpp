@@ -18,6 +18,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "TempDir.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -39,24 +41,9 @@ const Detector& clicdet() {
 /// Writes bad files into a fresh folder and checks the error they give.
 class TrackmlErrors : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    m_dir = fs::temp_directory_path() /
-            ("conftrack_ioerr_" + std::string(info->name()) + "_" +
-             std::to_string(::getpid()));
-    fs::remove_all(m_dir);
-    fs::create_directories(m_dir);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(m_dir, ec);
-  }
-
   /// Writes `text` to a file in the test folder; returns its path.
   fs::path write(const std::string& name, const std::string& text) {
-    fs::path file = m_dir / name;
-    std::ofstream(file, std::ios::binary) << text;
-    return file;
+    return test::writeText(m_dir / name, text);
   }
 
   /// Runs `f`, expects an InputError and returns its message, checking
@@ -82,7 +69,8 @@ class TrackmlErrors : public ::testing::Test {
     return errorOf([&] { readHits(file, detector); }, file, line);
   }
 
-  fs::path m_dir;
+  test::TempDir m_tmp;
+  const fs::path& m_dir = m_tmp.path();
 };
 
 TEST_F(TrackmlErrors, MissingFile) {

@@ -18,6 +18,8 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "TempDir.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -25,30 +27,8 @@ namespace fs = std::filesystem;
 
 const fs::path kTrackmlData = fs::path(CONFTRACK_SHARED_DIR) / "data/trackml";
 
-/// A fresh, empty folder per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    m_path = fs::temp_directory_path() /
-             ("conftrack_tml_" + std::string(info->test_suite_name()) + "_" +
-              info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(m_path);
-    fs::create_directories(m_path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(m_path, ec);
-  }
-  const fs::path& path() const { return m_path; }
-
- private:
-  fs::path m_path;
-};
-
-void writeText(const fs::path& file, const std::string& text) {
-  std::ofstream(file, std::ios::binary) << text;
-}
+using test::TempDir;
+using test::writeText;
 
 std::string errorOf(const fs::path& file, const std::vector<Hit>& hits,
                     std::optional<std::uint64_t> eventId = std::nullopt) {

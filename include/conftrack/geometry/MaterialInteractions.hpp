@@ -72,6 +72,11 @@ double highlandTheta0(double p, double beta, double charge, double xOverX0);
 /// @return theta0 [rad] (bracket clamped at 0)
 double rossiGreisenTheta0(double p, double charge, double xOverX0);
 
+/// The scattering width used by conftrack's simulation and fit alike:
+/// Rossi-Greisen for electrons, Highland otherwise.
+double scatteringTheta0(double p, double beta, double charge, double xOverX0,
+                        bool electron);
+
 /// Sternheimer density-effect correction delta(beta gamma) (PDG): with
 /// x = log10(beta gamma), delta = 2 ln10 x - C + a (x1 - x)^k for
 /// x0 <= x < x1, 2 ln10 x - C above x1, delta0 10^(2 (x - x0)) below x0.

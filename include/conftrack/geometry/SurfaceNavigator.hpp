@@ -45,6 +45,12 @@ struct NavigationSurface {
   /// disks, perpendicular to the generator line in the r-z plane for cones
   /// ((r_hat - slope z_hat)/sqrt(1 + slope^2)). The sign is arbitrary.
   Vector3 normal(const Vector3& position) const;
+  /// Material traversed by a track crossing at `position` along the unit
+  /// `direction`: thicknessX0 / |cos alpha| (physics.md 4), with |cos alpha|
+  /// floored at max(minCosIncidence, grazingCos). The one definition shared
+  /// by the simulation and the fit, so that both see the same material.
+  double xOverX0(const Vector3& position, const Vector3& direction,
+                 double minCosIncidence) const;
 };
 
 /// The result of a search: transverse arc length and surface index.

@@ -213,10 +213,8 @@ FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
   }
   const HelixState helix{state.pivot, state.params};
   // Path length at the actual crossing angle, with the simulation's caps.
-  const double cosIncidence =
-      std::max(std::abs(helix.direction().dot(surface.normal(helix.pca()))),
-               std::max(m_config.minCosIncidence, surface.grazingCos));
-  const double xOverX0 = surface.thicknessX0 / cosIncidence;
+  const double xOverX0 =
+      surface.xOverX0(helix.pca(), helix.direction(), m_config.minCosIncidence);
   const double omega = state.params[eOmega];
   const double tanLambda = state.params[eTanLambda];
   const double secLambda2 = 1.0 + tanLambda * tanLambda;
@@ -262,9 +260,8 @@ FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
   if (m_config.multipleScattering) {
     // Scattering with the momentum before the loss, as the simulation.
     const double beta = pBefore / std::hypot(pBefore, m);
-    const double theta0 = m_electron
-                              ? rossiGreisenTheta0(pBefore, 1.0, xOverX0)
-                              : highlandTheta0(pBefore, beta, 1.0, xOverX0);
+    const double theta0 =
+        scatteringTheta0(pBefore, beta, 1.0, xOverX0, m_electron);
     const double var = theta0 * theta0;
     // Two projected angles: d phi = theta1 / cos(lambda), d lambda =
     // theta2; d tanLambda = sec^2 d lambda and, at fixed p, d Omega =

@@ -288,6 +288,20 @@ void finishEvent2(const Checker& c, const Event2& ev) {
   }
 }
 
+/// A "HepMC..." line of `format`: version, start or end marker. Anything
+/// else there would stop the library's reader, so it is an error.
+void headerLine(std::string_view s, const std::string& format,
+                std::size_t lineNumber, const Checker& c,
+                TextSummary& summary) {
+  if (startsWith(s, "HepMC::" + format + "-END_EVENT_LISTING")) {
+    summary.hasFooter = true;
+  } else if (!startsWith(s, "HepMC::Version") &&
+             !startsWith(s, "HepMC::" + format + "-START_EVENT_LISTING")) {
+    c.fail(lineNumber,
+           "unexpected line '" + std::string(s.substr(0, 60)) + "'");
+  }
+}
+
 TextSummary validateIoGenEvent(const std::vector<Line>& lines,
                                const Checker& c) {
   TextSummary summary;
@@ -306,14 +320,7 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
       continue;
     }
     if (startsWith(s, "HepMC")) {
-      if (startsWith(s, "HepMC::IO_GenEvent-END_EVENT_LISTING")) {
-        summary.hasFooter = true;
-      } else if (!startsWith(s, "HepMC::Version") &&
-                 !startsWith(s, "HepMC::IO_GenEvent-START_EVENT_LISTING")) {
-        // The reader would stop reading here.
-        c.fail(line.number,
-               "unexpected line '" + std::string(s.substr(0, 60)) + "'");
-      }
+      headerLine(s, "IO_GenEvent", line.number, c, summary);
       continue;
     }
     const auto t = tokenize(s);
@@ -528,13 +535,7 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
       continue;
     }
     if (startsWith(s, "HepMC")) {
-      if (startsWith(s, "HepMC::Asciiv3-END_EVENT_LISTING")) {
-        summary.hasFooter = true;
-      } else if (!startsWith(s, "HepMC::Version") &&
-                 !startsWith(s, "HepMC::Asciiv3-START_EVENT_LISTING")) {
-        c.fail(line.number,
-               "unexpected line '" + std::string(s.substr(0, 60)) + "'");
-      }
+      headerLine(s, "Asciiv3", line.number, c, summary);
       continue;
     }
     const auto t = tokenize(s);
