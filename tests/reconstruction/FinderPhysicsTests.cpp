@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 
 namespace conftrack {
@@ -120,29 +121,36 @@ void report(const char* name, const Score& s) {
 }
 
 TEST_F(FinderPhysics, SingleMuons) {
-  // pT 1, 10, 100 GeV; theta from 10 to 90 degrees; both charges.
-  std::size_t found = 0;
-  std::size_t total = 0;
+  // One muon per event; pT 1, 10, 100 GeV; theta from 10 to 90 degrees;
+  // both charges. Goal: >= 99.9 % of 10,000 muons per point with a pure
+  // track holding >= 90 % of their hits. CI runs 1,000 per point and
+  // allows 2 sigma of a 99.9 % binomial below the goal (99.7 %); the full
+  // check (README "Validation") sets CONFTRACK_MUONS_PER_POINT=10000 and
+  // then requires the goal itself.
+  const char* env = std::getenv("CONFTRACK_MUONS_PER_POINT");
+  const std::size_t n = env != nullptr ? std::strtoul(env, nullptr, 10) : 1000;
+  ASSERT_GT(n, 0u);
+  const double goal = 0.999;
+  const double required =
+      n >= 10000 ? goal
+                 : goal - 2.0 * std::sqrt(goal * (1.0 - goal) / double(n));
   for (double pt : {1.0, 10.0, 100.0}) {
     EventSimulation::Config cfg;
     cfg.sample = "muons";
     cfg.seed = 11;
     cfg.generatorToml =
         "[generator]\nsample = \"gun\"\nparticle = \"mu-\"\n"
-        "random_charge = true\nmultiplicity = 10\npt_GeV = " +
+        "random_charge = true\nmultiplicity = 1\npt_GeV = " +
         std::to_string(pt) +
         "\ntheta_min_deg = 10.0\ntheta_max_deg = 90.0\n"
         "theta_sampling = \"theta\"\n";
-    Score s = score(*s_detector, *s_finder, cfg, 100, 0.0, 0.9);
+    Score s = score(*s_detector, *s_finder, cfg, n, 0.0, 0.9);
     report(("muons pT " + std::to_string(int(pt)) + " GeV").c_str(), s);
-    found += s.found;
-    total += s.particles;
+    EXPECT_EQ(s.particles, n);
+    EXPECT_GE(double(s.found), required * double(s.particles))
+        << s.found << " of " << s.particles;
     EXPECT_EQ(s.impure, 0u);
   }
-  // The goal is >= 99.9 % (README "Validation", open); measured 99.5 % on
-  // 3,000 muons. This guards the current level: at most 0.8 % of muons
-  // may lack a pure track with 90 % of their hits.
-  EXPECT_GE(double(found), 0.992 * double(total)) << found << " of " << total;
 }
 
 TEST_F(FinderPhysics, TtbarWithoutBackground) {

@@ -61,14 +61,25 @@ double ConformalFitResult::pt(double bz) const {
   return constants::kPtPerTeslaMm * bz * radius;
 }
 
-double ConformalFitResult::deltaChi2(const ConformalHits& hits,
-                                     ConfIndex i) const {
+double ConformalFitResult::deltaChi2(const ConformalHits& hits, ConfIndex i,
+                                     double extraVariance) const {
   FramePoint p = toFrame(hits, i, cosA, sinA);
   Eigen::Vector3d h(1.0, p.x, quadratic ? p.x * p.x : 0.0);
   double slope = params(1) + 2.0 * params(2) * p.x;
   double e = p.y - h.dot(params);
-  double var = residualVariance(p, slope) + h.dot(covariance * h);
+  // A displacement perpendicular to the curve moves the vertical residual
+  // by sqrt(1 + slope^2) times as much.
+  double var = residualVariance(p, slope) +
+               extraVariance * (1.0 + slope * slope) + h.dot(covariance * h);
   return e * e / var;
+}
+
+double ConformalFitResult::residual(const ConformalHits& hits, ConfIndex i,
+                                    double& variance) const {
+  FramePoint p = toFrame(hits, i, cosA, sinA);
+  Eigen::Vector3d h(1.0, p.x, quadratic ? p.x * p.x : 0.0);
+  variance = residualVariance(p, params(1) + 2.0 * params(2) * p.x);
+  return p.y - h.dot(params);
 }
 
 ConformalFitResult fitConformal(const ConformalHits& hits,
@@ -219,6 +230,12 @@ double SzFitResult::deltaChi2(double s, double z, double varZ,
   double var = std::max(varZ + tanLambda * tanLambda * varS, kMinZVariance) +
                h.dot(covariance * h);
   return e * e / var;
+}
+
+double SzFitResult::residual(double s, double z, double varZ, double varS,
+                             double& variance) const {
+  variance = std::max(varZ + tanLambda * tanLambda * varS, kMinZVariance);
+  return z - (z0 + tanLambda * s);
 }
 
 SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,

@@ -103,6 +103,33 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
     result.steps.push_back(std::move(stats));
   }
 
+  if (chain.finalHoleFilling && !state.tracks.empty()) {
+    const auto tStep = Clock::now();
+    StepStats stats;
+    stats.name = "HoleFilling";
+    std::vector<std::uint16_t> collections;
+    for (const FindingStep& step : chain.steps) {
+      collections.insert(collections.end(), step.collections.begin(),
+                         step.collections.end());
+    }
+    std::vector<ConfIndex> members;
+    for (ConfIndex h = 0; h < conformal.size(); ++h) {
+      if (state.used[h] == 0 &&
+          std::find(collections.begin(), collections.end(),
+                    conformal.subdetector[h]) != collections.end()) {
+        members.push_back(h);
+      }
+    }
+    if (!members.empty()) {
+      HitPool all(conformal, std::move(members));
+      detail::fillHoles(state, all, stats);
+    }
+    stats.hitsUsed = static_cast<std::uint64_t>(
+        std::count(state.used.begin(), state.used.end(), 1));
+    stats.milliseconds = msSince(tStep);
+    result.steps.push_back(std::move(stats));
+  }
+
   result.tracks.reserve(state.tracks.size());
   for (const TrackCandidate& t : state.tracks) {
     FoundTrack out;

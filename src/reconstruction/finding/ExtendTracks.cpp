@@ -26,6 +26,7 @@
 // following layers (a look-ahead of FinderConfig::extensionLookahead
 // layers), and the lowest total wins.
 
+#include "conftrack/geometry/MaterialInteractions.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <algorithm>
@@ -39,6 +40,14 @@ namespace {
 
 /// Margin around a layer's extent when predicting crossings [mm].
 constexpr double kLayerMargin = 10.0;
+/// The scattering allowance applies to hits on the nearest predicted layer
+/// crossing, or at most this much further (the second sensor of a double
+/// layer) [mm]: a track whose particle ended must not pick up a hit layers
+/// away with an allowance that grows with the distance.
+constexpr double kScatterReach = 5.0;
+/// Extra half-angle of the (z, R) search cone around a predicted crossing,
+/// for hit resolution at short distances [rad].
+constexpr double kConeMargin = 0.05;
 
 double angleBetween(double ax, double ay, double bx, double by) {
   return std::atan2(std::abs(ax * by - ay * bx), ax * bx + ay * by);
@@ -55,6 +64,13 @@ struct Candidate {
   double s;     ///< predicted arc length of the crossing
   double chi2;  ///< chi2_uv + chi2_sz increase
   double dUv;
+};
+
+/// Allowance for multiple scattering at a hit (variances added to the
+/// hit's own in the chi2 increments).
+struct Scatter {
+  double uv = 0.0;  ///< perpendicular to the conformal curve [1/mm^2]
+  double z = 0.0;   ///< along z [mm^2]
 };
 
 /// A track being extended: hits and fits.
@@ -150,7 +166,7 @@ class Extender {
   /// Hole filling: adds unused hits on layers that the track crosses
   /// between its first and last hit but has no hit on (a cell that skipped
   /// a layer), best chi2 increase first.
-  void fill(std::uint32_t t) {
+  void fill(std::uint32_t t, bool local) {
     TrackCandidate& track = m_state.tracks[t];
     if (track.hits.size() < 3) {
       return;
@@ -172,54 +188,11 @@ class Extender {
         ConfIndex h = chain.hits[k];
         hitS[k] = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], hitS[k - 1]);
       }
-      double bestChi2 = std::numeric_limits<double>::infinity();
       ConfIndex best = kInvalidIndex;
       double bestS = 0.0;
-      for (std::uint32_t layer : m_pool.layers()) {
-        bool present = false;
-        for (ConfIndex h : chain.hits) {
-          present = present || m_hits.layer[h] == layer;
-        }
-        if (present) {
-          continue;
-        }
-        predict(layer, chain.arc, chain.sz, 0.0);
-        for (const Prediction& p : m_predictions) {
-          if (!(p.s < hitS.back())) {
-            continue;
-          }
-          m_window.clear();
-          m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
-                             m_window);
-          for (ConfIndex h : m_window) {
-            if (m_state.used[h] != 0 || onSensorOf(chain.hits, h)) {
-              continue;
-            }
-            double s = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
-            if (!(s > 0.0 && s < hitS.back())) {
-              continue;
-            }
-            double dUv = chain.uv.deltaChi2(m_hits, h);
-            double dSz = chain.sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h],
-                                            m_hits.varRxy[h]);
-            const double cut = m_step.chi2CutAt(chain.uv.pt(m_state.bzForPt));
-            if (increase(chain.uv.chi2, chain.uv.ndf, dUv) > cut ||
-                increase(chain.sz.chi2, chain.sz.ndf, dSz) > cut) {
-              continue;
-            }
-            double chi2 = dUv + dSz;
-            // A hit in a hole between measured hits is well predicted: an
-            // absolute bound keeps neighbours in dense jets out.
-            if (chi2 > kMaxHoleChi2) {
-              continue;
-            }
-            if (chi2 < bestChi2 || (chi2 == bestChi2 && h < best)) {
-              bestChi2 = chi2;
-              best = h;
-              bestS = s;
-            }
-          }
-        }
+      findHole(chain, hitS, false, local, best, bestS);
+      if (best == kInvalidIndex && m_state.config.scatteringAllowance) {
+        findHole(chain, hitS, true, local, best, bestS);
       }
       if (best == kInvalidIndex) {
         break;
@@ -246,6 +219,104 @@ class Extender {
   static double increase(double chi2, int ndf, double delta) {
     double before = ndf > 0 ? chi2 / ndf : 0.0;
     return (chi2 + delta) / (ndf + 1) - before;
+  }
+
+  /// The best unused hit in a hole of the chain (see fill), with or
+  /// without the scattering allowance; `best` stays kInvalidIndex if none.
+  /// With `local` a hit is judged by its residuals relative to those of
+  /// the track's hits on either side of the hole (localHoleChi2) instead
+  /// of its residuals to the fits.
+  void findHole(const Chain& chain, const std::vector<double>& hitS,
+                bool allowance, bool local, ConfIndex& best, double& bestS) {
+    double bestChi2 = std::numeric_limits<double>::infinity();
+    for (std::uint32_t layer : m_pool.layers()) {
+      bool present = false;
+      for (ConfIndex h : chain.hits) {
+        present = present || m_hits.layer[h] == layer;
+      }
+      if (present) {
+        continue;
+      }
+      predict(layer, chain.arc, chain.sz, 0.0);
+      for (const Prediction& p : m_predictions) {
+        if (!(p.s < hitS.back())) {
+          continue;
+        }
+        m_window.clear();
+        m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
+                           m_window);
+        for (ConfIndex h : m_window) {
+          if (m_state.used[h] != 0 || onSensorOf(chain.hits, h)) {
+            continue;
+          }
+          double s = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
+          if (!(s > 0.0 && s < hitS.back())) {
+            continue;
+          }
+          // The hit before the hole along the track.
+          const std::size_t before = static_cast<std::size_t>(
+              std::upper_bound(hitS.begin(), hitS.end(), s) - hitS.begin() - 1);
+          const Scatter ms =
+              allowance ? scatter(chain.uv, chain.sz, chain.hits[before], h,
+                                  s - hitS[before])
+                        : Scatter{};
+          double dUv = chain.uv.deltaChi2(m_hits, h, ms.uv);
+          double dSz = chain.sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h] + ms.z,
+                                          m_hits.varRxy[h]);
+          const double cut = m_step.chi2CutAt(chain.uv.pt(m_state.bzForPt));
+          if (increase(chain.uv.chi2, chain.uv.ndf, dUv) > cut ||
+              increase(chain.sz.chi2, chain.sz.ndf, dSz) > cut) {
+            continue;
+          }
+          // A hit in a hole between measured hits is well predicted: an
+          // absolute bound keeps neighbours in dense jets out.
+          double chi2 =
+              local ? localHoleChi2(chain, hitS, before, h, s, ms) : dUv + dSz;
+          if (chi2 > kMaxHoleChi2) {
+            continue;
+          }
+          if (chi2 < bestChi2 || (chi2 == bestChi2 && h < best)) {
+            bestChi2 = chi2;
+            best = h;
+            bestS = s;
+          }
+        }
+      }
+    }
+  }
+
+  /// chi2 of hit h (arc length s) in the hole after the chain's hit
+  /// `before`, from its residuals to the fits minus those interpolated
+  /// between the hits on either side. Below a few GeV multiple scattering
+  /// bends a track away from its fitted circle and s-z line by far more
+  /// than the hit resolution (chi2/ndf ~ 100 at 1 GeV), but smoothly: the
+  /// neighbours' residuals carry the local deviation, which the
+  /// difference removes.
+  double localHoleChi2(const Chain& chain, const std::vector<double>& hitS,
+                       std::size_t before, ConfIndex h, double s,
+                       const Scatter& ms) const {
+    const std::size_t after = before + 1;
+    const ConfIndex a = chain.hits[before];
+    const ConfIndex b = chain.hits[after];
+    const double span = hitS[after] - hitS[before];
+    const double wa = span > 0.0 ? (hitS[after] - s) / span : 0.5;
+    const double wb = 1.0 - wa;
+    double vh = 0.0;
+    double va = 0.0;
+    double vb = 0.0;
+    const ConformalFitResult& uv = chain.uv;
+    double eUv = uv.residual(m_hits, h, vh) - wa * uv.residual(m_hits, a, va) -
+                 wb * uv.residual(m_hits, b, vb);
+    double varUv = vh + wa * wa * va + wb * wb * vb + ms.uv;
+    const SzFitResult& sz = chain.sz;
+    double eSz =
+        sz.residual(s, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h], vh) -
+        wa * sz.residual(hitS[before], m_hits.z[a], m_hits.varZ[a],
+                         m_hits.varRxy[a], va) -
+        wb * sz.residual(hitS[after], m_hits.z[b], m_hits.varZ[b],
+                         m_hits.varRxy[b], vb);
+    double varSz = vh + wa * wa * va + wb * wb * vb + ms.z;
+    return eUv * eUv / varUv + eSz * eSz / varSz;
   }
 
   bool refit(Chain& c, const ConformalFitResult* frame) const {
@@ -292,6 +363,34 @@ class Extender {
     return best;
   }
 
+  /// The deflection in the material of the layer of hit `from`, seen at
+  /// hit `to` a transverse arc length `ds` further on: the conformal fits
+  /// know only the hit resolutions, and below a few GeV the outer tracker's
+  /// 7 um are far smaller than this (0.4 mm at 1 GeV between two outer
+  /// layers), so good hits would fail the chi2 cuts.
+  Scatter scatter(const ConformalFitResult& uv, const SzFitResult& sz,
+                  ConfIndex from, ConfIndex to, double ds) const {
+    Scatter out;
+    const SensitiveLayer& layer = m_state.detector.layers()[m_hits.layer[from]];
+    const double tanL = sz.tanLambda;
+    const double secL = std::hypot(1.0, tanL);
+    // Path through the layer: 1/sin(theta) on a cylinder, 1/|cos(theta)| on
+    // a disk, capped at grazing incidence.
+    const double path =
+        layer.isDisk() ? secL / std::max(std::abs(tanL), 0.1) : secL;
+    const double p = uv.pt(m_state.bzForPt) * secL;
+    if (!(p > 0.0) || !(layer.thicknessX0 > 0.0)) {
+      return out;
+    }
+    const double theta0 =
+        highlandTheta0(p, 1.0, 1.0, layer.thicknessX0 * std::min(path, 10.0));
+    const double d = theta0 * std::abs(ds) * secL;  // displacement [mm]
+    const double r2 = m_hits.radius[to] * m_hits.radius[to];
+    out.uv = d * d / (r2 * r2);
+    out.z = d * d * secL * secL;
+    return out;
+  }
+
   bool onSensorOf(const std::vector<ConfIndex>& hits, ConfIndex h) const {
     for (ConfIndex k : hits) {
       if (m_hits.sameSensor(k, h)) {
@@ -304,13 +403,35 @@ class Extender {
   /// Compatible hits on the first layer crossed after the chain's last hit,
   /// best (lowest chi2 increase) first. `excluded` is a tentative hit of
   /// the look-ahead. Returns whether any crossing was predicted at all.
+  /// Hits compatible within the hit resolutions are preferred; only when
+  /// there are none are the chi2 increments recomputed with the allowance
+  /// for multiple scattering (FinderConfig::scatteringAllowance). In dense
+  /// jets the allowance alone let low-pT tracks take hits of neighbours
+  /// a fraction of a mm away.
   bool collect(const Chain& chain, std::vector<Candidate>& out,
                ConfIndex excluded = kInvalidIndex) {
+    double nearest = std::numeric_limits<double>::infinity();
+    bool predicted = collectWith(chain, out, excluded, nullptr, &nearest);
+    if (out.empty() && predicted && !m_catchAll &&
+        m_state.config.scatteringAllowance) {
+      const double reach = nearest + kScatterReach;
+      collectWith(chain, out, excluded, &reach, nullptr);
+    }
+    return predicted;
+  }
+
+  /// collect, without (`allowanceReach` null) or with the scattering
+  /// allowance in the chi2 increments; with it, only crossings up to that
+  /// distance from the end are searched. `nearest` receives the distance
+  /// of the nearest predicted crossing.
+  bool collectWith(const Chain& chain, std::vector<Candidate>& out,
+                   ConfIndex excluded, const double* allowanceReach,
+                   double* nearest) {
     out.clear();
-    // The end of the chain being extended, and its neighbour.
+    const bool allowance = allowanceReach != nullptr;
+    // The end of the chain being extended.
     const std::size_t n = chain.hits.size();
     const ConfIndex last = m_inward ? chain.hits[0] : chain.hits[n - 1];
-    const ConfIndex prev = m_inward ? chain.hits[1] : chain.hits[n - 2];
     const ConformalFitResult& uv = chain.uv;
     const SzFitResult& sz = chain.sz;
     // Inwards the chord to a 2 mm-distant double-layer sensor is as noisy
@@ -323,14 +444,16 @@ class Extender {
     double norm = (m_inward ? -1.0 : 1.0) * std::hypot(1.0, slope);
     double tu = (uv.cosA - uv.sinA * slope) / norm;
     double tv = (uv.sinA + uv.cosA * slope) / norm;
-    double rzDz = m_hits.z[last] - m_hits.z[prev];
-    double rzDr = m_hits.radius[last] - m_hits.radius[prev];
-    double rzNorm = std::hypot(rzDz, rzDr);
-    // The (z, R) angle cut below as a cone around that chord: only the
-    // layer bins it reaches are searched.
-    const HitPool::RzCone rzCone{
-        m_hits.z[last], m_hits.radius[last], rzNorm > 0.0 ? rzDz / rzNorm : 0.0,
-        rzNorm > 0.0 ? rzDr / rzNorm : 1.0, factor * m_step.maxCellAngleRZ};
+    // The longitudinal angle cut is taken in the (s, z) plane, where the
+    // helix is a straight line, against the fitted s-z direction. Upstream
+    // compares chords in (z, R); below a few GeV the track curves in that
+    // plane (R grows slower than s), and at the outer tracker layers a 1 GeV
+    // track's consecutive chords differ by more than 3 x 0.05 rad.
+    const double szNorm =
+        (m_inward ? -1.0 : 1.0) * std::hypot(1.0, sz.tanLambda);
+    const double ts = 1.0 / szNorm;
+    const double tz = sz.tanLambda / szNorm;
+    const double rzCut = factor * m_step.maxCellAngleRZ;
     // Arc length of the end being extended (0 for the first hit).
     const double sLast = m_inward ? 0.0 : sz.lastS;
     const double chi2Cut = m_step.chi2CutAt(uv.pt(m_state.bzForPt));
@@ -343,12 +466,27 @@ class Extender {
       predicted = predicted || !m_predictions.empty();
       for (const Prediction& p : m_predictions) {
         double dist = std::abs(p.s - sLast);
-        if (dist > firstS + 1e-6) {
+        // (A crossing of the end hit's own layer right at the hit is not
+        // the next layer.)
+        if (nearest != nullptr && layer != m_hits.layer[last]) {
+          *nearest = std::min(*nearest, dist);
+        }
+        if (dist > firstS + 1e-6 || (allowance && dist > *allowanceReach)) {
           continue;  // a later layer than one that already has hits
         }
+        // Only the layer bins near the predicted crossing are searched: a
+        // (z, R) cone from the last hit towards it, wide enough for every
+        // hit that passes the (s, z) angle cut below.
+        const Vector2 at = chain.arc.pointAt(p.s);
+        const double coneDz = sz.z0 + sz.tanLambda * p.s - m_hits.z[last];
+        const double coneDr = at.norm() - m_hits.radius[last];
+        const double coneNorm = std::hypot(coneDz, coneDr);
+        const HitPool::RzCone rzCone{m_hits.z[last], m_hits.radius[last],
+                                     coneDz / coneNorm, coneDr / coneNorm,
+                                     std::min(1.5, 3.0 * rzCut + kConeMargin)};
         m_window.clear();
         m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
-                           m_window, rzNorm > 0.0 ? &rzCone : nullptr);
+                           m_window, coneNorm > 0.0 ? &rzCone : nullptr);
         for (ConfIndex h : m_window) {
           if (h == excluded || m_state.used[h] != 0 ||
               onSensorOf(chain.hits, h)) {
@@ -371,21 +509,22 @@ class Extender {
                                 factor * m_step.maxCellAngle) {
             continue;
           }
-          double dz = m_hits.z[h] - m_hits.z[last];
-          double dr = m_hits.radius[h] - m_hits.radius[last];
-          double lr = std::hypot(dz, dr);
-          if (rzNorm > 0.0 && lr > 0.0 &&
-              angleBetween(rzDz / rzNorm, rzDr / rzNorm, dz / lr, dr / lr) >
-                  factor * m_step.maxCellAngleRZ) {
-            continue;
-          }
-          double dUv = uv.deltaChi2(m_hits, h);
           double s = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
           if (m_inward ? !(s < sLast) : !(s > sLast)) {
             continue;
           }
-          double dSz =
-              sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h]);
+          double ds = s - sLast;
+          double dz = m_hits.z[h] - m_hits.z[last];
+          double lsz = std::hypot(ds, dz);
+          if (!(lsz > 0.0) ||
+              angleBetween(ts, tz, ds / lsz, dz / lsz) > rzCut) {
+            continue;
+          }
+          const Scatter ms =
+              allowance ? scatter(uv, sz, last, h, ds) : Scatter{};
+          double dUv = uv.deltaChi2(m_hits, h, ms.uv);
+          double dSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h] + ms.z,
+                                    m_hits.varRxy[h]);
           if (increase(uv.chi2, uv.ndf, dUv) > chi2Cut ||
               increase(sz.chi2, sz.ndf, dSz) > chi2Cut) {
             continue;
@@ -488,7 +627,18 @@ void completeTrack(FinderState& state, const FindingStep& step,
   if (step.direction == SearchDirection::eInsideOut) {
     extender.extend(t, false, true);
   }
-  extender.fill(t);
+  extender.fill(t, false);
+}
+
+void fillHoles(FinderState& state, const HitPool& pool, StepStats& stats) {
+  for (std::uint32_t t = 0; t < state.tracks.size(); ++t) {
+    if (!state.tracks[t].alive) {
+      continue;
+    }
+    const FindingStep& step = state.config.steps[state.tracks[t].step];
+    Extender extender(state, step, pool, stats);
+    extender.fill(t, true);
+  }
 }
 
 void extendTracks(FinderState& state, const FindingStep& step,

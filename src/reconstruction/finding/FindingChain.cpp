@@ -140,6 +140,10 @@ FinderConfig parseChain(std::string_view text, const std::string& sourceName,
     cfg.extensionLookahead = static_cast<int>(f->getInt(
         "extension_lookahead", cfg.extensionLookahead, Range::closed(0, 5)));
     cfg.legacyFourTesla = f->getBool("legacy_four_tesla", false);
+    cfg.finalHoleFilling =
+        f->getBool("final_hole_filling", cfg.finalHoleFilling);
+    cfg.scatteringAllowance =
+        f->getBool("scattering_allowance", cfg.scatteringAllowance);
     f->rejectUnknownKeys();
   }
   std::vector<ConfigTable> steps = root.getTableArray("step");

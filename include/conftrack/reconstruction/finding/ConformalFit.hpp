@@ -46,8 +46,15 @@ struct ConformalFitResult {
   int charge() const { return -orientation; }
   /// Transverse momentum [GeV] in a field bz [T].
   double pt(double bz) const;
-  /// Exact chi2 increment of adding hit i (and its residual variance).
-  double deltaChi2(const ConformalHits& hits, ConfIndex i) const;
+  /// Exact chi2 increment of adding hit i. `extraVariance` is added to the
+  /// hit's variance perpendicular to the curve (conformal units squared),
+  /// e.g. an allowance for multiple scattering, which the fit ignores.
+  double deltaChi2(const ConformalHits& hits, ConfIndex i,
+                   double extraVariance = 0.0) const;
+  /// Residual of hit i (y' minus the curve at its x'), and in `variance`
+  /// its variance from the hit's own errors.
+  double residual(const ConformalHits& hits, ConfIndex i,
+                  double& variance) const;
 };
 
 /// Fits the hits (in track order: along the particle's path). With
@@ -91,6 +98,10 @@ struct SzFitResult {
   double chi2PerNdf() const { return ndf > 0 ? chi2 / ndf : 0.0; }
   /// Exact chi2 increment of adding a point (s, z) with variances.
   double deltaChi2(double s, double z, double varZ, double varS) const;
+  /// Residual z - z(s) of a point, and in `variance` its variance from the
+  /// point's own errors.
+  double residual(double s, double z, double varZ, double varS,
+                  double& variance) const;
 };
 
 /// Fits z versus s for the hits (track order), s from the arc frame.

@@ -112,6 +112,18 @@ struct FinderConfig {
   /// Use upstream's hard-coded 4 T in the pT estimate (for comparisons
   /// only; wrong for CLD).
   bool legacyFourTesla = false;
+  /// After the last step, fill every track's holes (layers of the chain's
+  /// collections crossed between its first and last hit without a hit on
+  /// the track) with compatible unused hits. A conftrack addition: an
+  /// extension step searches only its own collections, so a layer it
+  /// skipped (e.g. the outer sensor of a vertex double layer when the
+  /// tracker step extends a vertex track) is otherwise never revisited.
+  bool finalHoleFilling = true;
+  /// Extensions and hole filling allow for multiple scattering in the
+  /// material of the layer before a candidate hit (Highland, with the
+  /// track's momentum estimate) in its chi2 increments. A conftrack
+  /// addition: upstream's conformal chi2 knows only the hit resolutions.
+  bool scatteringAllowance = true;
 };
 
 /// Reads and validates a chain file against a detector. Throws InputError

@@ -82,6 +82,11 @@ void buildTracks(FinderState& state, const FindingStep& step,
 void completeTrack(FinderState& state, const FindingStep& step,
                    const HitPool& pool, StepStats& stats, std::uint32_t t);
 
+/// Final hole filling (FinderConfig::finalHoleFilling): the hole filling
+/// of completeTrack for every live track, over `pool`, with the cuts of the
+/// step that built each track.
+void fillHoles(FinderState& state, const HitPool& pool, StepStats& stats);
+
 /// ExtendTracks: per-layer extension of tracks above the step's pT cut,
 /// then the catch-all extension of all tracks (algorithm.md 10).
 void extendTracks(FinderState& state, const FindingStep& step,
