@@ -91,14 +91,41 @@ TEST(TrackmlChain, ShippedChainSettings) {
             *detector.findSubdetector("PixelBarrel"));
   EXPECT_EQ(c.maxPathsPerSeed, 50u);
 
-  // The additions default to upstream's behaviour.
+  // The step additions default to upstream's behaviour; the CLICdet chain
+  // uses only the two seed caps.
   const Detector clic = loadDetector("clicdet");
-  for (const FindingStep& s :
-       readChain(resolveChainPath("clicdet"), clic).steps) {
-    EXPECT_EQ(s.maxSeedZ0, std::numeric_limits<double>::infinity());
+  const FinderConfig minimal = parseChain(R"([[step]]
+name = "S0"
+collections = ["VertexBarrel"]
+actions = ["build"]
+max_cell_angle = 0.01
+max_cell_angle_rz = 0.01
+chi2_cut = 100.0
+min_hits = 4
+max_distance = 0.02
+slope_z_range = 10.0
+high_pt_cut_GeV = 10.0
+)",
+                                          "minimal.toml", clic);
+  const FindingStep& d = minimal.steps.at(0);
+  EXPECT_EQ(d.maxSeedZ0, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(d.maxSeedLength, std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(d.seedCollections.empty());
+  EXPECT_EQ(d.chi2PtScale, 0.0);
+  EXPECT_EQ(d.chi2CutAt(0.1), d.chi2Cut);
+  EXPECT_TRUE(minimal.finalHoleFilling && minimal.scatteringAllowance);
+  const FinderConfig clicChain = readChain(resolveChainPath("clicdet"), clic);
+  for (const FindingStep& s : clicChain.steps) {
     EXPECT_TRUE(s.seedCollections.empty());
     EXPECT_EQ(s.chi2PtScale, 0.0);
-    EXPECT_EQ(s.chi2CutAt(0.1), s.chi2Cut);
+    const bool vertexBuild = s.build && s.name != "Displaced";
+    EXPECT_EQ(s.maxSeedZ0,
+              vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
+        << s.name;
+    EXPECT_EQ(s.maxSeedLength, s.name == "Displaced"
+                                   ? 800.0
+                                   : std::numeric_limits<double>::infinity())
+        << s.name;
   }
 }
 
@@ -130,6 +157,9 @@ TEST(TrackmlChain, NewKeysAreValidated) {
                        "chi2_cut_pt_scale_GeV = 1.0\n"),
             "");
   EXPECT_NE(chainError("max_seed_z0_mm = 0.0\n"), "");
+  EXPECT_NE(
+      chainError("max_seed_length_mm = -5.0\n").find("max_seed_length_mm"),
+      std::string::npos);
   EXPECT_NE(chainError("chi2_cut_pt_scale_GeV = -1.0\n"), "");
   EXPECT_NE(chainError("seed_collections = []\n").find("must not be empty"),
             std::string::npos);
@@ -233,6 +263,34 @@ TEST(TrackmlChain, RzRestrictedSearchesFindTheSameHits) {
               &rz);
     pool.cone(ch.u[a], ch.v[a], du, dv, 0.05, cu, cv, 0.625 * d, cone, keep);
     EXPECT_EQ(coneRz, cone) << "cone, trial " << trial;
+    // ... and both against brute force: every hit inside the disc and the
+    // (u, v) cone, short of the origin (cone() ends the cone at 0.995 of
+    // the distance to it, measured along the edges), nearest to the disc
+    // centre first.
+    const double towardsOrigin = -(ch.u[a] * du + ch.v[a] * dv);
+    const double maxAlong = towardsOrigin > 0.0
+                                ? 0.995 * towardsOrigin * std::cos(0.05)
+                                : std::numeric_limits<double>::infinity();
+    std::vector<std::pair<double, ConfIndex>> brute;
+    for (ConfIndex h = 0; h < ch.size(); ++h) {
+      const double au = ch.u[h] - ch.u[a];
+      const double av = ch.v[h] - ch.v[a];
+      const double along = au * du + av * dv;
+      const double eu = ch.u[h] - cu;
+      const double ev = ch.v[h] - cv;
+      const double dist2 = eu * eu + ev * ev;
+      if (keep(h) && along > 0.0 && along <= maxAlong &&
+          along >= std::cos(0.05) * std::sqrt(au * au + av * av) &&
+          dist2 <= 0.625 * d * 0.625 * d) {
+        brute.emplace_back(dist2, h);
+      }
+    }
+    std::sort(brute.begin(), brute.end());
+    std::vector<ConfIndex> bruteIds;
+    for (const auto& b : brute) {
+      bruteIds.push_back(b.second);
+    }
+    EXPECT_EQ(cone, bruteIds) << "cone vs brute force, trial " << trial;
 
     // Extension: one layer's azimuth window.
     for (std::uint32_t layer : pool.layers()) {

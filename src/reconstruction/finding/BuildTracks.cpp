@@ -54,7 +54,9 @@ class SeedAutomaton {
         m_step(step),
         m_pool(pool),
         m_stats(stats),
-        m_insideOut(step.direction == SearchDirection::eInsideOut) {}
+        m_insideOut(step.direction == SearchDirection::eInsideOut),
+        m_cosCellAngle(std::cos(step.maxCellAngle)),
+        m_cosCellAngleRZ(std::cos(step.maxCellAngleRZ)) {}
 
   /// Runs the automaton for one seed; appends passing candidates.
   void run(ConfIndex seed, std::vector<TrackCandidate>& candidates) {
@@ -90,22 +92,24 @@ class SeedAutomaton {
     Cell c{a, b, 0, 0, 0, 0};
     double du = m_hits.u[b] - m_hits.u[a];
     double dv = m_hits.v[b] - m_hits.v[a];
-    double l = std::hypot(du, dv);
+    // sqrt rather than hypot: no overflow is possible here, and this is
+    // the innermost loop of the automaton.
+    double l = std::sqrt(du * du + dv * dv);
     c.du = du / l;
     c.dv = dv / l;
     double dz = m_hits.z[b] - m_hits.z[a];
     double dr = m_hits.radius[b] - m_hits.radius[a];
-    double lr = std::hypot(dz, dr);
+    double lr = std::sqrt(dz * dz + dr * dr);
     c.dz = lr > 0.0 ? dz / lr : 0.0;
     c.dr = lr > 0.0 ? dr / lr : 1.0;
     return c;
   }
 
   bool anglesPass(const Cell& parent, const Cell& child) const {
-    return angleBetween(parent.du, parent.dv, child.du, child.dv) <=
-               m_step.maxCellAngle &&
-           angleBetween(parent.dz, parent.dr, child.dz, child.dr) <=
-               m_step.maxCellAngleRZ;
+    // Between unit vectors, angle <= cut is dot >= cos(cut) (cut in
+    // [0, pi]).
+    return parent.du * child.du + parent.dv * child.dv >= m_cosCellAngle &&
+           parent.dz * child.dz + parent.dr * child.dr >= m_cosCellAngleRZ;
   }
 
   static std::uint64_t key(ConfIndex a, ConfIndex b) {
@@ -178,8 +182,9 @@ class SeedAutomaton {
     if (!acceptNeighbour(seed, n)) {
       return false;
     }
-    double dxy =
-        std::hypot(m_hits.x[n] - m_hits.x[seed], m_hits.y[n] - m_hits.y[seed]);
+    const double dx = m_hits.x[n] - m_hits.x[seed];
+    const double dy = m_hits.y[n] - m_hits.y[seed];
+    double dxy = std::sqrt(dx * dx + dy * dy);
     double dz = std::abs(m_hits.z[n] - m_hits.z[seed]);
     if (dz > m_step.slopeZRange * dxy) {
       return false;
@@ -194,9 +199,12 @@ class SeedAutomaton {
         return false;
       }
     }
-    double length =
-        std::hypot(m_hits.u[n] - m_hits.u[seed], m_hits.v[n] - m_hits.v[seed]);
-    if (length > m_step.maxDistance) {
+    const double du = m_hits.u[n] - m_hits.u[seed];
+    const double dv = m_hits.v[n] - m_hits.v[seed];
+    if (du * du + dv * dv > m_step.maxDistance * m_step.maxDistance) {
+      return false;
+    }
+    if (dxy * dxy + dz * dz > m_step.maxSeedLength * m_step.maxSeedLength) {
       return false;
     }
     double dphi = std::abs(m_hits.phi[n] - m_hits.phi[seed]);
@@ -488,6 +496,8 @@ class SeedAutomaton {
   const HitPool& m_pool;
   StepStats& m_stats;
   bool m_insideOut;
+  double m_cosCellAngle;
+  double m_cosCellAngleRZ;
   bool m_overflowCells = false;
   // Step-wide cell graph (children computed once per cell).
   std::vector<Cell> m_cells;

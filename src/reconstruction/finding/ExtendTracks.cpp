@@ -504,7 +504,7 @@ class Extender {
           }
           double du = m_hits.u[h] - m_hits.u[last];
           double dv = m_hits.v[h] - m_hits.v[last];
-          double l = std::hypot(du, dv);
+          double l = std::sqrt(du * du + dv * dv);
           if (!(l > 0.0) || angleBetween(tu, tv, du / l, dv / l) >
                                 factor * m_step.maxCellAngle) {
             continue;
@@ -515,7 +515,7 @@ class Extender {
           }
           double ds = s - sLast;
           double dz = m_hits.z[h] - m_hits.z[last];
-          double lsz = std::hypot(ds, dz);
+          double lsz = std::sqrt(ds * ds + dz * dz);
           if (!(lsz > 0.0) ||
               angleBetween(ts, tz, ds / lsz, dz / lsz) > rzCut) {
             continue;

@@ -97,6 +97,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
   s.maxSeedDeltaPhi = t.getDouble("max_seed_dphi", s.maxSeedDeltaPhi,
                                   Range{0.0, 3.15, false, true});
   s.maxSeedZ0 = t.getDouble("max_seed_z0_mm", s.maxSeedZ0, Range::positive());
+  s.maxSeedLength =
+      t.getDouble("max_seed_length_mm", s.maxSeedLength, Range::positive());
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);

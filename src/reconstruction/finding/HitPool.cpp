@@ -176,11 +176,27 @@ HitPool::PreparedRz::PreparedRz(const RzCone& rz) : cone(rz) {
     unbounded = true;
     return;
   }
-  const double psi = std::atan2(rz.dr, rz.dz);
-  edgeZ[0] = std::cos(psi - a);
-  edgeR[0] = std::sin(psi - a);
-  edgeZ[1] = std::cos(psi + a);
-  edgeR[1] = std::sin(psi + a);
+  // The edges: the axis rotated by -a and +a. Most callers use one
+  // half-angle throughout, so its cosine and sine are remembered.
+  thread_local double lastA = 0.0;
+  thread_local double cosA = 1.0;
+  thread_local double sinA = 0.0;
+  if (a != lastA) {
+    lastA = a;
+    cosA = std::cos(a);
+    sinA = std::sin(a);
+  }
+  const double norm = std::sqrt(rz.dz * rz.dz + rz.dr * rz.dr);
+  const double cz = norm > 0.0 ? rz.dz / norm : 0.0;
+  const double cr = norm > 0.0 ? rz.dr / norm : 1.0;
+  edgeZ[0] = cz * cosA + cr * sinA;
+  edgeR[0] = cr * cosA - cz * sinA;
+  edgeZ[1] = cz * cosA - cr * sinA;
+  edgeR[1] = cr * cosA + cz * sinA;
+  for (int e = 0; e < 2; ++e) {
+    dzdr[e] = edgeR[e] != 0.0 ? edgeZ[e] / edgeR[e] : 0.0;
+    drdz[e] = edgeZ[e] != 0.0 ? edgeR[e] / edgeZ[e] : 0.0;
+  }
 }
 
 bool HitPool::rzRange(const PreparedRz& p, const LayerBins& b, double& wLo,
@@ -191,6 +207,42 @@ bool HitPool::rzRange(const PreparedRz& p, const LayerBins& b, double& wLo,
     return true;
   }
   const RzCone& rz = p.cone;
+  // Closed form when the layer lies across the cone's path: both edges run
+  // towards the layer's band of its short coordinate (R of a barrel layer,
+  // z of a disk) from an apex outside it. The cone within the band is then
+  // a trapezoid whose extent in w runs between the edges' w at the band's
+  // two borders, clipped to the layer.
+  {
+    // u: the short coordinate, w: the long one.
+    const double u0 = b.alongZ ? rz.r : rz.z;
+    const double w0 = b.alongZ ? rz.z : rz.r;
+    const double* du = b.alongZ ? p.edgeR : p.edgeZ;
+    const double* slope = b.alongZ ? p.dzdr : p.drdz;
+    const double uLo = b.alongZ ? b.rMin : b.zMin;
+    const double uHi = b.alongZ ? b.rMax : b.zMax;
+    const bool below = u0 < uLo && du[0] > 0.0 && du[1] > 0.0;
+    const bool above = u0 > uHi && du[0] < 0.0 && du[1] < 0.0;
+    if (below || above) {
+      const double w00 = w0 + (uLo - u0) * slope[0];
+      const double w01 = w0 + (uHi - u0) * slope[0];
+      const double w10 = w0 + (uLo - u0) * slope[1];
+      const double w11 = w0 + (uHi - u0) * slope[1];
+      const double lo = std::min(std::min(w00, w01), std::min(w10, w11));
+      const double hi = std::max(std::max(w00, w01), std::max(w10, w11));
+      const double wMinLayer = b.alongZ ? b.zMin : b.rMin;
+      const double wMaxLayer = b.alongZ ? b.zMax : b.rMax;
+      if (hi < wMinLayer || lo > wMaxLayer) {
+        return false;
+      }
+      wLo = std::max(lo, wMinLayer);
+      wHi = std::min(hi, wMaxLayer);
+      const double margin =
+          1e-6 * (1.0 + std::max(std::abs(wLo), std::abs(wHi)));
+      wLo -= margin;
+      wHi += margin;
+      return true;
+    }
+  }
   // The cone is convex: the extremes of w over its intersection with the
   // layer's (z, R) box lie at vertices of that polygon, i.e. box corners
   // inside the cone, intersections of the cone's edges with the box's
@@ -383,6 +435,17 @@ double wrap(double a) {
   return a;
 }
 
+/// True if the triangle contains the origin (boundary included).
+bool containsOrigin(const Vector2 (&tri)[3]) {
+  auto cross = [](const Vector2& p, const Vector2& q) {
+    return p.x() * q.y() - p.y() * q.x();
+  };
+  double s0 = cross(tri[1] - tri[0], -tri[0]);
+  double s1 = cross(tri[2] - tri[1], -tri[1]);
+  double s2 = cross(tri[0] - tri[2], -tri[2]);
+  return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+}
+
 /// Azimuth window of the part of triangle (a, b, c) between the circles of
 /// radius rhoMin and rhoMax around the origin. Returns false if they do not
 /// meet; halfWidth >= pi if the triangle contains the origin. The azimuth is
@@ -392,25 +455,30 @@ double wrap(double a) {
 bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
                    double& centre, double& halfWidth) {
   // Origin inside the triangle: every azimuth.
-  auto cross = [](const Vector2& p, const Vector2& q) {
-    return p.x() * q.y() - p.y() * q.x();
-  };
-  double s0 = cross(tri[1] - tri[0], -tri[0]);
-  double s1 = cross(tri[2] - tri[1], -tri[1]);
-  double s2 = cross(tri[0] - tri[2], -tri[2]);
-  if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0)) {
+  if (containsOrigin(tri)) {
     centre = 0.0;
     halfWidth = kTwoPi;
     return true;
   }
-  double ref = fastAtan2(tri[0].y() + tri[1].y() + tri[2].y(),
-                         tri[0].x() + tri[1].x() + tri[2].x());
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -lo;
+  // The triangle misses the origin, so all its points lie within an arc
+  // shorter than pi as seen from there, where the sign of a cross product
+  // orders azimuths: the extremes are found without arctangents, and only
+  // the two winners are converted.
+  bool any = false;
+  Vector2 loP;
+  Vector2 hiP;
   auto corner = [&](const Vector2& p) {
-    double a = wrap(fastAtan2(p.y(), p.x()) - ref);
-    lo = std::min(lo, a);
-    hi = std::max(hi, a);
+    if (!any) {
+      loP = hiP = p;
+      any = true;
+      return;
+    }
+    if (hiP.x() * p.y() - hiP.y() * p.x() > 0.0) {
+      hiP = p;  // p lies counter-clockwise of the highest so far
+    }
+    if (p.x() * loP.y() - p.y() * loP.x() > 0.0) {
+      loP = p;  // p lies clockwise of the lowest so far
+    }
   };
   for (int k = 0; k < 3; ++k) {
     double r = tri[k].norm();
@@ -438,11 +506,13 @@ bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
       }
     }
   }
-  if (lo > hi) {
+  if (!any) {
     return false;
   }
-  centre = wrap(ref + 0.5 * (lo + hi));
-  halfWidth = 0.5 * (hi - lo);
+  const double lo = fastAtan2(loP.y(), loP.x());
+  const double span = std::max(0.0, wrap(fastAtan2(hiP.y(), hiP.x()) - lo));
+  centre = wrap(lo + 0.5 * span);
+  halfWidth = 0.5 * span;
   return true;
 }
 
@@ -456,9 +526,20 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
   out.clear();
   // The cone cut off by the disc: a triangle reaching past the disc's far
   // edge (length / cos keeps the triangle around the circular cap).
-  double reach = std::hypot(discU - u, discV - v) + discRadius;
-  double c = std::cos(halfAngle);
-  double s = std::sin(halfAngle);
+  const double du0 = discU - u;
+  const double dv0 = discV - v;
+  double reach = std::sqrt(du0 * du0 + dv0 * dv0) + discRadius;
+  // Most callers use one half-angle throughout: remember its cosine/sine.
+  thread_local double lastAngle = 0.0;
+  thread_local double cosAngle = 1.0;
+  thread_local double sinAngle = 0.0;
+  if (halfAngle != lastAngle) {
+    lastAngle = halfAngle;
+    cosAngle = std::cos(halfAngle);
+    sinAngle = std::sin(halfAngle);
+  }
+  const double c = cosAngle;
+  const double s = sinAngle;
   double len = reach / std::max(c, 1e-3);
   // Stop short of the origin: beyond it lie hits on the opposite side of
   // the detector, which no track reaches. Cutting at 0.995 of the distance
@@ -468,18 +549,40 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
   if (towardsOrigin > 0.0) {
     len = std::min(len, 0.995 * towardsOrigin);
   }
+  // The triangle's far edge, as a distance along the axis.
+  const double maxAlong = len * c * (1.0 + 1e-12);
   Vector2 apex(u, v);
   Vector2 left(du * c - dv * s, du * s + dv * c);
   Vector2 right(du * c + dv * s, -du * s + dv * c);
   const Vector2 tri[3] = {apex, apex + len * left, apex + len * right};
   const double r2 = discRadius * discRadius;
-  const double cosCut = std::cos(halfAngle);
+  const double cosCut = c;
   // The margin covers the approximate arctangent of the window corners.
   constexpr double kMargin = kFastAtanMargin;
   // Conformal radii the disc can reach: skip layers outside at once.
   double discCentreRc = std::sqrt(discU * discU + discV * discV);
   double rcLow = discCentreRc - discRadius;
   double rcHigh = discCentreRc + discRadius;
+  // ... and the triangle: its largest conformal radius is at a vertex, its
+  // smallest at the nearest point of an edge (0 if it holds the origin).
+  {
+    double triHigh = 0.0;
+    double triLow = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      const Vector2& a = tri[k];
+      const Vector2& b = tri[(k + 1) % 3];
+      triHigh = std::max(triHigh, a.norm());
+      const Vector2 e = b - a;
+      const double ee = e.squaredNorm();
+      const double t = ee > 0.0 ? std::clamp(-a.dot(e) / ee, 0.0, 1.0) : 0.0;
+      triLow = std::min(triLow, (a + t * e).norm());
+    }
+    if (containsOrigin(tri)) {
+      triLow = 0.0;
+    }
+    rcLow = std::max(rcLow, triLow - 1e-12);
+    rcHigh = std::min(rcHigh, triHigh + 1e-12);
+  }
   std::optional<PreparedRz> prepared;
   if (rz != nullptr) {
     prepared.emplace(*rz);
@@ -515,7 +618,7 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
                       out);
       }
     }
-    // Exact cuts: inside the disc and the cone.
+    // Exact cuts: inside the disc and the triangle.
     std::size_t kept = before;
     const double cos2 = cosCut * cosCut * (1.0 - 1e-12);
     for (std::size_t i = before; i < out.size(); ++i) {
@@ -526,8 +629,9 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
       double av = m_hits->v[h] - v;
       double dot = au * du + av * dv;
       double a2 = au * au + av * av;
-      // Inside the disc, and within the cone: dot >= cos * |a|.
-      if (eu * eu + ev * ev <= r2 && a2 > 0.0 && dot > 0.0 &&
+      // Inside the disc, within the cone (dot >= cos * |a|) and short of
+      // its end.
+      if (eu * eu + ev * ev <= r2 && a2 > 0.0 && dot > 0.0 && dot <= maxAlong &&
           dot * dot >= cos2 * a2 && (!keep || keep(h))) {
         out[kept++] = h;
       }

@@ -74,6 +74,12 @@ struct FindingStep {
   /// seed pairs with the hits of the next layer at every z that the slope
   /// cut admits.
   double maxSeedZ0 = std::numeric_limits<double>::infinity();
+  /// Maximum 3-D distance between the two hits of a seed cell [mm]
+  /// (infinity: no cut, as upstream). In the outer tracker the conformal
+  /// disc reaches across the whole detector, so an outside-in seed pairs
+  /// with hits many layers further in; a real track's first cell skips at
+  /// most a layer or two.
+  double maxSeedLength = std::numeric_limits<double>::infinity();
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).

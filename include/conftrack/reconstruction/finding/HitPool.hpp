@@ -111,6 +111,9 @@ class HitPool {
     RzCone cone;
     bool unbounded = false;  ///< half-angle >= pi/2: no restriction
     double edgeZ[2] = {0.0, 0.0}, edgeR[2] = {0.0, 0.0};
+    /// The edges' slopes dz/dR and dR/dz (0 where undefined), for the
+    /// closed-form range when both edges run towards a layer's band.
+    double dzdr[2] = {0.0, 0.0}, drdz[2] = {0.0, 0.0};
   };
   /// Range of w of the layer's part inside `rz`; false if none.
   static bool rzRange(const PreparedRz& rz, const LayerBins& bins, double& wLo,
