@@ -92,7 +92,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(c.maxPathsPerSeed, 50u);
 
   // The step additions default to upstream's behaviour; the CLICdet chain
-  // uses only the two seed caps.
+  // uses only the seed caps and tracker seeds in the displaced step.
   const Detector clic = loadDetector("clicdet");
   const FinderConfig minimal = parseChain(R"([[step]]
 name = "S0"
@@ -116,7 +116,7 @@ high_pt_cut_GeV = 10.0
   EXPECT_TRUE(minimal.finalHoleFilling && minimal.scatteringAllowance);
   const FinderConfig clicChain = readChain(resolveChainPath("clicdet"), clic);
   for (const FindingStep& s : clicChain.steps) {
-    EXPECT_TRUE(s.seedCollections.empty());
+    EXPECT_EQ(s.seedCollections.size(), s.name == "Displaced" ? 4u : 0u);
     EXPECT_EQ(s.chi2PtScale, 0.0);
     const bool vertexBuild = s.build && s.name != "Displaced";
     EXPECT_EQ(s.maxSeedZ0,
