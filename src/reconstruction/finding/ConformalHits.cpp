@@ -9,12 +9,21 @@
 
 namespace conftrack {
 
-Matrix2 ConformalHits::covariance(ConfIndex i) const {
-  double c = std::cos(phi[i]);
-  double s = std::sin(phi[i]);
+namespace {
+/// Covariance of (u, v) from the tangential and radial variances.
+Matrix2 uvCovariance(double phi, double varT, double varR) {
+  double c = std::cos(phi);
+  double s = std::sin(phi);
   Vector2 t(-s, c);
   Vector2 r(c, s);
-  return varT[i] * t * t.transpose() + varR[i] * r * r.transpose();
+  return varT * t * t.transpose() + varR * r * r.transpose();
+}
+}  // namespace
+
+Matrix2 ConformalHits::covariance(ConfIndex i) const {
+  Matrix2 m;
+  m << covUU[i], covUV[i], covUV[i], covVV[i];
+  return m;
 }
 
 ConformalHits makeConformalHits(std::span<const Hit> hits,
@@ -42,8 +51,8 @@ ConformalHits makeConformalHits(std::span<const Hit> hits,
   ConformalHits ch;
   auto reserve = [n](auto&... vs) { (vs.reserve(n), ...); };
   reserve(ch.original, ch.id, ch.x, ch.y, ch.z, ch.radius, ch.u, ch.v, ch.rc,
-          ch.phi, ch.varT, ch.varR, ch.varZ, ch.varRxy, ch.layer,
-          ch.subdetector, ch.side, ch.module);
+          ch.phi, ch.varT, ch.varR, ch.covUU, ch.covUV, ch.covVV, ch.varZ,
+          ch.varRxy, ch.layer, ch.subdetector, ch.side, ch.module);
   for (HitIndex i : order) {
     const Hit& h = hits[i];
     std::optional<std::uint32_t> layer = detector.findLayer(h.detId);
@@ -72,6 +81,12 @@ ConformalHits makeConformalHits(std::span<const Hit> hits,
     double sigmaR = l.isDisk() ? h.sigmaV : 0.0;
     ch.varT.push_back(sigmaT * sigmaT / (r2 * r2));
     ch.varR.push_back(sigmaR * sigmaR / (r2 * r2));
+    // The fits need the (u, v) covariance of every hit many times.
+    const Matrix2 cov =
+        uvCovariance(ch.phi.back(), ch.varT.back(), ch.varR.back());
+    ch.covUU.push_back(cov(0, 0));
+    ch.covUV.push_back(cov(0, 1));
+    ch.covVV.push_back(cov(1, 1));
     ch.varZ.push_back(l.isDisk() ? 0.0 : h.sigmaV * h.sigmaV);
     ch.varRxy.push_back(sigmaR * sigmaR);
     ch.layer.push_back(*layer);

@@ -78,17 +78,15 @@ bool fitCandidate(const FinderState& state, const FindingStep& step,
   if (!out.uv.valid) {
     return false;
   }
-  out.sz = fitSz(state.hits, out.hits,
-                 makeArcFrame(out.uv, state.hits, out.hits.front()));
-  if (!out.sz.valid) {
-    return false;
-  }
   out.pt = out.uv.pt(state.bzForPt);
   const double cut = step.chi2CutAt(out.pt);
-  if (out.sz.chi2PerNdf() > cut) {
+  // Most paths fail; the (u, v) cut first spares their s-z fit.
+  if (!step.onlySzChi2Cut && out.uv.chi2PerNdf() > cut) {
     return false;
   }
-  return step.onlySzChi2Cut || out.uv.chi2PerNdf() <= cut;
+  out.sz = fitSz(state.hits, out.hits,
+                 makeArcFrame(out.uv, state.hits, out.hits.front()));
+  return out.sz.valid && out.sz.chi2PerNdf() <= cut;
 }
 
 }  // namespace conftrack::detail

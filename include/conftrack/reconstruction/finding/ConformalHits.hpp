@@ -29,16 +29,17 @@ using ConfIndex = std::uint32_t;
 /// a radial one to d/R^2 along the radial direction (with opposite sign,
 /// irrelevant for variances).
 struct ConformalHits {
-  std::vector<HitIndex> original;    ///< index into the event's hits
-  std::vector<std::uint64_t> id;     ///< stable hit id (tie-breaks)
-  std::vector<double> x, y, z;       ///< global position [mm]
-  std::vector<double> radius;        ///< R = sqrt(x^2 + y^2) [mm]
-  std::vector<double> u, v;          ///< conformal coordinates [1/mm]
-  std::vector<double> rc;            ///< conformal radius 1/R [1/mm]
-  std::vector<double> phi;           ///< azimuth atan2(y, x) in (-pi, pi]
-  std::vector<double> varT;          ///< tangential variance, conformal
-  std::vector<double> varR;          ///< radial variance, conformal
-  std::vector<double> varZ;          ///< z variance [mm^2] (0 on disks)
+  std::vector<HitIndex> original;  ///< index into the event's hits
+  std::vector<std::uint64_t> id;   ///< stable hit id (tie-breaks)
+  std::vector<double> x, y, z;     ///< global position [mm]
+  std::vector<double> radius;      ///< R = sqrt(x^2 + y^2) [mm]
+  std::vector<double> u, v;        ///< conformal coordinates [1/mm]
+  std::vector<double> rc;          ///< conformal radius 1/R [1/mm]
+  std::vector<double> phi;         ///< azimuth atan2(y, x) in (-pi, pi]
+  std::vector<double> varT;        ///< tangential variance, conformal
+  std::vector<double> varR;        ///< radial variance, conformal
+  std::vector<double> covUU, covUV, covVV;  ///< (u, v) covariance
+  std::vector<double> varZ;                 ///< z variance [mm^2] (0 on disks)
   std::vector<double> varRxy;        ///< radial variance [mm^2] (0 barrel)
   std::vector<std::uint32_t> layer;  ///< index into Detector::layers()
   std::vector<std::uint16_t> subdetector;
