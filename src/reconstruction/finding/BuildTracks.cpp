@@ -251,6 +251,12 @@ class SeedAutomaton {
       m_pool.azimuthWindow(m_hits.phi[seed], m_state.config.thetaRange, m_nb);
       std::erase_if(m_nb, [&](ConfIndex n) { return !passes(n); });
     }
+    // The nearest neighbours only (the searches return them nearest
+    // first): the seed cells of a fixed window grow with the hit density,
+    // these do not.
+    if (m_step.maxSeedCells > 0 && m_nb.size() > m_step.maxSeedCells) {
+      m_nb.resize(m_step.maxSeedCells);
+    }
     m_seedCells.clear();
     for (ConfIndex n : m_nb) {
       m_seedCells.push_back(cellOf(seed, n));

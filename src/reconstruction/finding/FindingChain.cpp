@@ -99,6 +99,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
   s.maxSeedZ0 = t.getDouble("max_seed_z0_mm", s.maxSeedZ0, Range::positive());
   s.maxSeedLength =
       t.getDouble("max_seed_length_mm", s.maxSeedLength, Range::positive());
+  s.maxSeedCells = static_cast<std::uint32_t>(
+      t.getInt("max_seed_cells", s.maxSeedCells, Range::closed(0, 1e6)));
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);

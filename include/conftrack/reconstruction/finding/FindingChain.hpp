@@ -80,6 +80,13 @@ struct FindingStep {
   /// with hits many layers further in; a real track's first cell skips at
   /// most a layer or two.
   double maxSeedLength = std::numeric_limits<double>::infinity();
+  /// At most this many seed cells per seed, to its nearest neighbours (in
+  /// the conformal plane with radial search, in azimuth otherwise) that
+  /// pass the seed-cell cuts (0: all, as upstream). The paper seeds cells
+  /// "to the nearest neighbours"; a fixed window holds more of them the
+  /// denser the event, so without a bound the cost per seed grows with the
+  /// occupancy.
+  std::uint32_t maxSeedCells = 0;
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).
