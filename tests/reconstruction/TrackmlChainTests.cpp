@@ -110,6 +110,7 @@ high_pt_cut_GeV = 10.0
   const FindingStep& d = minimal.steps.at(0);
   EXPECT_EQ(d.maxSeedZ0, std::numeric_limits<double>::infinity());
   EXPECT_EQ(d.maxSeedLength, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(d.maxSeedCells, 0u);
   EXPECT_TRUE(d.seedCollections.empty());
   EXPECT_EQ(d.chi2PtScale, 0.0);
   EXPECT_EQ(d.chi2CutAt(0.1), d.chi2Cut);
@@ -122,6 +123,7 @@ high_pt_cut_GeV = 10.0
     EXPECT_EQ(s.maxSeedZ0,
               vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
         << s.name;
+    EXPECT_EQ(s.maxSeedCells, s.radialSearch ? 30u : 0u) << s.name;
     EXPECT_EQ(s.maxSeedLength, s.name == "Displaced"
                                    ? 800.0
                                    : std::numeric_limits<double>::infinity())
@@ -160,6 +162,8 @@ TEST(TrackmlChain, NewKeysAreValidated) {
   EXPECT_NE(
       chainError("max_seed_length_mm = -5.0\n").find("max_seed_length_mm"),
       std::string::npos);
+  EXPECT_NE(chainError("max_seed_cells = -1\n").find("max_seed_cells"),
+            std::string::npos);
   EXPECT_NE(chainError("chi2_cut_pt_scale_GeV = -1.0\n"), "");
   EXPECT_NE(chainError("seed_collections = []\n").find("must not be empty"),
             std::string::npos);
