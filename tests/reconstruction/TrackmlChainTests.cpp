@@ -123,7 +123,7 @@ high_pt_cut_GeV = 10.0
     EXPECT_EQ(s.maxSeedZ0,
               vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
         << s.name;
-    EXPECT_EQ(s.maxSeedCells, s.radialSearch ? 30u : 0u) << s.name;
+    EXPECT_EQ(s.maxSeedCells, s.build && s.radialSearch ? 30u : 0u) << s.name;
     EXPECT_EQ(s.maxSeedLength, s.name == "Displaced"
                                    ? 800.0
                                    : std::numeric_limits<double>::infinity())
