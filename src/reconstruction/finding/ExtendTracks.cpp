@@ -46,8 +46,8 @@ constexpr double kLayerMargin = 10.0;
 /// away with an allowance that grows with the distance.
 constexpr double kScatterReach = 5.0;
 /// Extra half-angle of the (z, R) search cone around a predicted crossing,
-/// for hit resolution at short distances [rad].
-constexpr double kConeMargin = 0.05;
+/// for hits away from the predicted point [rad].
+constexpr double kConeMargin = 0.01;
 
 double angleBetween(double ax, double ay, double bx, double by) {
   return std::atan2(std::abs(ax * by - ay * bx), ax * bx + ay * by);
@@ -475,15 +475,23 @@ class Extender {
           continue;  // a later layer than one that already has hits
         }
         // Only the layer bins near the predicted crossing are searched: a
-        // (z, R) cone from the last hit towards it, wide enough for every
-        // hit that passes the (s, z) angle cut below.
+        // (z, R) cone from the last hit towards it. An (s, z) angle a
+        // there spans a (z, R) angle a (1 + t^2) c / (c^2 + t^2), with
+        // t = dz/ds and c = dR/ds of the chord (on barrels and disks
+        // alike); the cone gets half as much again, plus a margin for
+        // hits away from the predicted point.
         const Vector2 at = chain.arc.pointAt(p.s);
         const double coneDz = sz.z0 + sz.tanLambda * p.s - m_hits.z[last];
         const double coneDr = at.norm() - m_hits.radius[last];
         const double coneNorm = std::hypot(coneDz, coneDr);
-        const HitPool::RzCone rzCone{m_hits.z[last], m_hits.radius[last],
-                                     coneDz / coneNorm, coneDr / coneNorm,
-                                     std::min(1.5, 3.0 * rzCut + kConeMargin)};
+        const double chordS = std::abs(p.s - sLast);
+        const double c = chordS > 0.0 ? std::abs(coneDr) / chordS : 1.0;
+        const double t2 = sz.tanLambda * sz.tanLambda;
+        const double spread = c > 0.0 ? (1.0 + t2) * c / (c * c + t2) : 1.5;
+        const HitPool::RzCone rzCone{
+            m_hits.z[last], m_hits.radius[last], coneDz / coneNorm,
+            coneDr / coneNorm,
+            std::min(1.5, 1.5 * rzCut * spread + kConeMargin)};
         m_window.clear();
         m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
                            m_window, coneNorm > 0.0 ? &rzCone : nullptr);

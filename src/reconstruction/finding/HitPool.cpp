@@ -375,11 +375,7 @@ void HitPool::discWindow(double u, double v, double radius, double phi,
       if (!rzRange(*prepared, bins, wLo, wHi)) {
         continue;
       }
-      const std::uint32_t last = bins.binOf(wHi);
-      for (std::uint32_t n = bins.binOf(wLo); n <= last; ++n) {
-        auto [begin, end] = m_binRange[bins.firstBin + n];
-        collectWindow(m_binPhis, m_binHits, begin, end, phi, half, window);
-      }
+      collectLayer(k, wLo, wHi, phi, half, window);
     }
     for (ConfIndex h : window) {
       double du = u - m_hits->u[h];
@@ -610,13 +606,7 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
       collectWindow(m_layerPhis, m_layerHits, begin, end, centre,
                     half + kMargin, out);
     } else {
-      const LayerBins& bins = m_layerBins[k];
-      const std::uint32_t last = bins.binOf(wHi);
-      for (std::uint32_t n = bins.binOf(wLo); n <= last; ++n) {
-        auto [begin, end] = m_binRange[bins.firstBin + n];
-        collectWindow(m_binPhis, m_binHits, begin, end, centre, half + kMargin,
-                      out);
-      }
+      collectLayer(k, wLo, wHi, centre, half + kMargin, out);
     }
     // Exact cuts: inside the disc and the triangle.
     std::size_t kept = before;
@@ -683,11 +673,37 @@ void HitPool::layerWindow(std::uint32_t layer, double phi, double halfWidth,
   if (!rzRange(PreparedRz(*rz), bins, wLo, wHi)) {
     return;
   }
+  collectLayer(k, wLo, wHi, phi, halfWidth, out);
+}
+
+void HitPool::collectLayer(std::size_t k, double wLo, double wHi, double phi,
+                           double halfWidth,
+                           std::vector<ConfIndex>& out) const {
+  const LayerBins& bins = m_layerBins[k];
+  const std::uint32_t first = bins.binOf(wLo);
   const std::uint32_t last = bins.binOf(wHi);
-  for (std::uint32_t n = bins.binOf(wLo); n <= last; ++n) {
-    auto [begin, end] = m_binRange[bins.firstBin + n];
-    collectWindow(m_binPhis, m_binHits, begin, end, phi, halfWidth, out);
+  // Each bin costs two binary searches: over a wide range of w one search
+  // in the whole layer, then a test of w per hit, is cheaper.
+  constexpr std::uint32_t kMaxBinSearches = 4;
+  if (last - first + 1 <= kMaxBinSearches) {
+    for (std::uint32_t n = first; n <= last; ++n) {
+      auto [begin, end] = m_binRange[bins.firstBin + n];
+      collectWindow(m_binPhis, m_binHits, begin, end, phi, halfWidth, out);
+    }
+    return;
   }
+  const std::size_t before = out.size();
+  auto [begin, end] = m_layerRange[k];
+  collectWindow(m_layerPhis, m_layerHits, begin, end, phi, halfWidth, out);
+  const std::vector<double>& w = bins.alongZ ? m_hits->z : m_hits->radius;
+  std::size_t kept = before;
+  for (std::size_t i = before; i < out.size(); ++i) {
+    const double wi = w[out[i]];
+    if (wi >= wLo && wi <= wHi) {
+      out[kept++] = out[i];
+    }
+  }
+  out.resize(kept);
 }
 
 }  // namespace conftrack

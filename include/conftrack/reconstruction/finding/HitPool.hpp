@@ -118,6 +118,11 @@ class HitPool {
   /// Range of w of the layer's part inside `rz`; false if none.
   static bool rzRange(const PreparedRz& rz, const LayerBins& bins, double& wLo,
                       double& wHi);
+  /// Appends the members of layer k (index into m_layers) within the
+  /// azimuth window whose long coordinate w may lie in [wLo, wHi] (a
+  /// superset: whole bins, or the exact range).
+  void collectLayer(std::size_t k, double wLo, double wHi, double phi,
+                    double halfWidth, std::vector<ConfIndex>& out) const;
   std::vector<LayerBins> m_layerBins;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_binRange;
   std::vector<ConfIndex> m_binHits;
