@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <map>
+#include <tuple>
 #include <vector>
 
 namespace {
@@ -27,24 +28,34 @@ const Detector& clicdet() {
   return det;
 }
 
-const Event& ttbarEvent(std::size_t bx) {
-  static std::map<std::size_t, Event> cache;
-  auto it = cache.find(bx);
+/// The first `n` simulated tt-bar events with `bx` overlaid crossings, with
+/// or without the readout window; simulated once.
+const std::vector<Event>& ttbarEvents(std::size_t bx, bool readoutWindow,
+                                      std::size_t n) {
+  static std::map<std::tuple<std::size_t, bool, std::size_t>,
+                  std::vector<Event>>
+      cache;
+  const auto key = std::make_tuple(bx, readoutWindow, n);
+  auto it = cache.find(key);
   if (it == cache.end()) {
     EventSimulation::Config cfg;
     cfg.sample = "ttbar3tev";
     cfg.overlayBx = bx;
     cfg.seed = 2019;
-    cfg.applyTimeWindow = false;
+    cfg.applyTimeWindow = readoutWindow;
     EventSimulation sim(clicdet(), cfg);
-    it = cache.emplace(bx, sim.simulate(1)).first;
+    std::vector<Event> events;
+    for (std::uint64_t e = 1; e <= n; ++e) {
+      events.push_back(sim.simulate(e));
+    }
+    it = cache.emplace(key, std::move(events)).first;
   }
   return it->second;
 }
 
 void findTtbar(benchmark::State& state) {
   const auto bx = static_cast<std::size_t>(state.range(0));
-  const Event& event = ttbarEvent(bx);
+  const Event& event = ttbarEvents(bx, false, 1).front();
   ConformalTrackFinder finder(
       clicdet(), {readChain(resolveChainPath("clicdet"), clicdet())});
   std::size_t tracks = 0;
@@ -64,27 +75,9 @@ BENCHMARK(findTtbar)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 
-const std::vector<Event>& readoutEvents(std::size_t bx) {
-  static std::map<std::size_t, std::vector<Event>> cache;
-  auto it = cache.find(bx);
-  if (it == cache.end()) {
-    EventSimulation::Config cfg;
-    cfg.sample = "ttbar3tev";
-    cfg.overlayBx = bx;
-    cfg.seed = 2019;
-    EventSimulation sim(clicdet(), cfg);
-    std::vector<Event> events;
-    for (std::uint64_t e = 1; e <= 10; ++e) {
-      events.push_back(sim.simulate(e));
-    }
-    it = cache.emplace(bx, std::move(events)).first;
-  }
-  return it->second;
-}
-
 void findTtbarReadout(benchmark::State& state) {
   const auto bx = static_cast<std::size_t>(state.range(0));
-  const std::vector<Event>& events = readoutEvents(bx);
+  const std::vector<Event>& events = ttbarEvents(bx, true, 10);
   ConformalTrackFinder finder(
       clicdet(), {readChain(resolveChainPath("clicdet"), clicdet())});
   std::size_t next = 0;

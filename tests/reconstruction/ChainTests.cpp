@@ -4,21 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include "ChainText.hpp"
+
 namespace conftrack {
 namespace {
 
-const std::string kStep = R"([[step]]
-name = "S0"
-collections = ["VertexBarrel"]
-actions = ["build"]
-max_cell_angle = 0.005
-max_cell_angle_rz = 0.005
-chi2_cut = 100.0
-min_hits = 4
-max_distance = 0.02
-slope_z_range = 10.0
-high_pt_cut_GeV = 10.0
-)";
+const std::string kStep = minimalStep("VertexBarrel", "0.005");
 
 std::string errorOf(const std::string& text) {
   static const Detector det = loadDetector("clicdet");

@@ -33,6 +33,8 @@
 #include <string>
 #include <vector>
 
+#include "ChainText.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -94,19 +96,8 @@ TEST(TrackmlChain, ShippedChainSettings) {
   // The step additions default to upstream's behaviour; the CLICdet chain
   // uses only the seed caps and tracker seeds in the displaced step.
   const Detector clic = loadDetector("clicdet");
-  const FinderConfig minimal = parseChain(R"([[step]]
-name = "S0"
-collections = ["VertexBarrel"]
-actions = ["build"]
-max_cell_angle = 0.01
-max_cell_angle_rz = 0.01
-chi2_cut = 100.0
-min_hits = 4
-max_distance = 0.02
-slope_z_range = 10.0
-high_pt_cut_GeV = 10.0
-)",
-                                          "minimal.toml", clic);
+  const FinderConfig minimal =
+      parseChain(minimalStep("VertexBarrel"), "minimal.toml", clic);
   const FindingStep& d = minimal.steps.at(0);
   EXPECT_EQ(d.maxSeedZ0, std::numeric_limits<double>::infinity());
   EXPECT_EQ(d.maxSeedLength, std::numeric_limits<double>::infinity());
@@ -133,18 +124,7 @@ high_pt_cut_GeV = 10.0
 
 std::string chainError(const std::string& stepKeys) {
   static const Detector det = loadDetector("trackml");
-  const std::string text = R"([[step]]
-name = "S0"
-collections = ["PixelBarrel"]
-actions = ["build"]
-max_cell_angle = 0.01
-max_cell_angle_rz = 0.01
-chi2_cut = 100.0
-min_hits = 4
-max_distance = 0.02
-slope_z_range = 10.0
-high_pt_cut_GeV = 10.0
-)" + stepKeys;
+  const std::string text = minimalStep("PixelBarrel") + stepKeys;
   try {
     parseChain(text, "chain.toml", det);
   } catch (const InputError& e) {

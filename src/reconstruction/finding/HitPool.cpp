@@ -33,6 +33,22 @@ using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
+/// Cosine and sine of an angle, recomputed only when it changes: most
+/// searches use one half-angle throughout (one cache per call site and
+/// thread).
+struct TrigCache {
+  double angle = 0.0;
+  double cos = 1.0;
+  double sin = 0.0;
+  void update(double a) {
+    if (a != angle) {
+      angle = a;
+      cos = std::cos(a);
+      sin = std::sin(a);
+    }
+  }
+};
+
 /// Appends the entries of a phi-sorted range within the window.
 void collectWindow(const std::vector<double>& phis,
                    const std::vector<ConfIndex>& ids, std::size_t begin,
@@ -176,16 +192,11 @@ HitPool::PreparedRz::PreparedRz(const RzCone& rz) : cone(rz) {
     unbounded = true;
     return;
   }
-  // The edges: the axis rotated by -a and +a. Most callers use one
-  // half-angle throughout, so its cosine and sine are remembered.
-  thread_local double lastA = 0.0;
-  thread_local double cosA = 1.0;
-  thread_local double sinA = 0.0;
-  if (a != lastA) {
-    lastA = a;
-    cosA = std::cos(a);
-    sinA = std::sin(a);
-  }
+  // The edges: the axis rotated by -a and +a.
+  thread_local TrigCache trig;
+  trig.update(a);
+  const double cosA = trig.cos;
+  const double sinA = trig.sin;
   const double norm = std::sqrt(rz.dz * rz.dz + rz.dr * rz.dr);
   const double cz = norm > 0.0 ? rz.dz / norm : 0.0;
   const double cr = norm > 0.0 ? rz.dr / norm : 1.0;
@@ -525,17 +536,10 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
   const double du0 = discU - u;
   const double dv0 = discV - v;
   double reach = std::sqrt(du0 * du0 + dv0 * dv0) + discRadius;
-  // Most callers use one half-angle throughout: remember its cosine/sine.
-  thread_local double lastAngle = 0.0;
-  thread_local double cosAngle = 1.0;
-  thread_local double sinAngle = 0.0;
-  if (halfAngle != lastAngle) {
-    lastAngle = halfAngle;
-    cosAngle = std::cos(halfAngle);
-    sinAngle = std::sin(halfAngle);
-  }
-  const double c = cosAngle;
-  const double s = sinAngle;
+  thread_local TrigCache trig;
+  trig.update(halfAngle);
+  const double c = trig.cos;
+  const double s = trig.sin;
   double len = reach / std::max(c, 1e-3);
   // Stop short of the origin: beyond it lie hits on the opposite side of
   // the detector, which no track reaches. Cutting at 0.995 of the distance
