@@ -9,22 +9,25 @@
 // cell (1x the step's cuts in the per-layer pass, 3x in the catch-all pass),
 // increases of chi2_uv/ndf and chi2_sz/ndf below the step's chi2 cut, no two
 // hits on one sensor, and in the catch-all pass no hit on the other side in
-// z. The chi2 increments are the exact ones of the track's fits, computed
-// in O(1) per hit. Upstream always refits with the quadratic term here; a
-// track built with the straight-line (prompt) model keeps it instead: with
-// the quadratic term free, a vertex-detector track plus the tracker hits of
-// a neighbouring particle of the same jet fits as well as the right
-// combination, while the prompt model tells them apart by a factor of ten
-// in chi2. Of the layers with compatible hits, the one crossed
-// first along the track is taken. Upstream takes the hit of lowest chi2_uv
-// increase there; in dense jets that greedy choice swaps hits between
-// particles a fraction of a mrad apart, because a vertex-detector track
-// cannot predict its curvature well enough at the first tracker layer (only
-// the next layers' lever arm tells them apart). So when several hits on
-// that layer are compatible, each of the best few is scored by its
-// chi2_uv + chi2_sz increase plus that of the best continuation on the
-// following layers (a look-ahead of FinderConfig::extensionLookahead
-// layers), and the lowest total wins.
+// z; but the longitudinal angle is measured in the (s, z) plane, where the
+// helix is straight, not between (z, R) chords, which curve below a few
+// GeV. The chi2 increments are the exact ones of the track's fits, computed
+// in O(1) per hit; when no hit of the next crossing passes, that crossing
+// is tried again with an allowance for multiple scattering in the hit
+// variances (FinderConfig::scatteringAllowance). Upstream always refits with
+// the quadratic term here; a track built with the straight-line (prompt) model
+// keeps it instead: with the quadratic term free, a vertex-detector track plus
+// the tracker hits of a neighbouring particle of the same jet fits as well as
+// the right combination, while the prompt model tells them apart by a factor of
+// ten in chi2. Of the layers with compatible hits, the one crossed first along
+// the track is taken. Upstream takes the hit of lowest chi2_uv increase there;
+// in dense jets that greedy choice swaps hits between particles a fraction of a
+// mrad apart, because a vertex-detector track cannot predict its curvature well
+// enough at the first tracker layer (only the next layers' lever arm tells them
+// apart). So when several hits on that layer are compatible, each of the best
+// few is scored by its chi2_uv + chi2_sz increase plus that of the best
+// continuation on the following layers (a look-ahead of
+// FinderConfig::extensionLookahead layers), and the lowest total wins.
 
 #include "conftrack/geometry/MaterialInteractions.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
