@@ -183,33 +183,30 @@ SurfaceCrossing SurfaceNavigator::nextCrossing(const Helix& helix, double sMin,
   }
 
   // Disks in the direction of motion along z.
-  if (tanLambda > 0.0) {
-    auto first = static_cast<std::size_t>(
-        std::upper_bound(m_diskZ.begin(), m_diskZ.end(), z0) - m_diskZ.begin());
-    for (std::size_t k = first; k < m_disks.size(); ++k) {
-      if ((m_diskZ[k] - z0) / tanLambda >= bestS) {
-        break;
-      }
-      const NavigationSurface& d = m_surfaces[m_disks[k]];
-      if (d.rMax < reachMin || d.rMin > reachMax) {
-        continue;
-      }
+  // Disk k: false once it (and every later one) lies beyond the best
+  // crossing so far.
+  auto considerDisk = [&](std::size_t k) {
+    if ((m_diskZ[k] - z0) / tanLambda >= bestS) {
+      return false;
+    }
+    const NavigationSurface& d = m_surfaces[m_disks[k]];
+    if (d.rMax >= reachMin && d.rMin <= reachMax) {
       consider(helix.nextDiskCrossing(d.zMin, d.rMin, d.rMax, sMin, bestS),
                m_disks[k]);
     }
+    return true;
+  };
+  if (tanLambda > 0.0) {
+    auto k = static_cast<std::size_t>(
+        std::upper_bound(m_diskZ.begin(), m_diskZ.end(), z0) - m_diskZ.begin());
+    while (k < m_disks.size() && considerDisk(k)) {
+      ++k;
+    }
   } else if (tanLambda < 0.0) {
-    auto last = static_cast<std::size_t>(
+    auto k = static_cast<std::size_t>(
         std::lower_bound(m_diskZ.begin(), m_diskZ.end(), z0) - m_diskZ.begin());
-    for (std::size_t k = last; k-- > 0;) {
-      if ((m_diskZ[k] - z0) / tanLambda >= bestS) {
-        break;
-      }
-      const NavigationSurface& d = m_surfaces[m_disks[k]];
-      if (d.rMax < reachMin || d.rMin > reachMax) {
-        continue;
-      }
-      consider(helix.nextDiskCrossing(d.zMin, d.rMin, d.rMax, sMin, bestS),
-               m_disks[k]);
+    while (k > 0 && considerDisk(k - 1)) {
+      --k;
     }
   }
 

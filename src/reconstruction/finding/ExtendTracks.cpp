@@ -107,15 +107,8 @@ class Extender {
   /// (per-layer mode only).
   void extend(std::uint32_t t, bool catchAll, bool inward = false) {
     TrackCandidate& track = m_state.tracks[t];
-    if (track.hits.size() < 3) {
-      return;
-    }
-    m_catchAll = catchAll && !inward;
-    m_inward = inward;
-    m_quadratic = track.uv.quadratic;
     Chain chain;
-    chain.hits = track.hits;
-    if (!refit(chain, &track.uv)) {
+    if (!begin(track, catchAll && !inward, inward, chain)) {
       return;
     }
     bool added = false;
@@ -159,10 +152,7 @@ class Extender {
       }
     }
     if (added) {
-      track.hits = chain.hits;
-      track.uv = chain.uv;
-      track.sz = chain.sz;
-      track.pt = chain.uv.pt(m_state.bzForPt);
+      store(chain, track);
     }
   }
 
@@ -171,15 +161,8 @@ class Extender {
   /// a layer), best chi2 increase first.
   void fill(std::uint32_t t, bool local) {
     TrackCandidate& track = m_state.tracks[t];
-    if (track.hits.size() < 3) {
-      return;
-    }
-    m_catchAll = false;
-    m_inward = false;
-    m_quadratic = track.uv.quadratic;
     Chain chain;
-    chain.hits = track.hits;
-    if (!refit(chain, &track.uv)) {
+    if (!begin(track, false, false, chain)) {
       return;
     }
     bool added = false;
@@ -211,14 +194,33 @@ class Extender {
       }
     }
     if (added) {
-      track.hits = chain.hits;
-      track.uv = chain.uv;
-      track.sz = chain.sz;
-      track.pt = chain.uv.pt(m_state.bzForPt);
+      store(chain, track);
     }
   }
 
  private:
+  /// Sets the pass and copies track into chain with fresh fits; false if
+  /// the track is too short or does not fit.
+  bool begin(const TrackCandidate& track, bool catchAll, bool inward,
+             Chain& chain) {
+    if (track.hits.size() < 3) {
+      return false;
+    }
+    m_catchAll = catchAll;
+    m_inward = inward;
+    m_quadratic = track.uv.quadratic;
+    chain.hits = track.hits;
+    return refit(chain, &track.uv);
+  }
+
+  /// Writes the grown chain back into the track.
+  void store(const Chain& chain, TrackCandidate& track) const {
+    track.hits = chain.hits;
+    track.uv = chain.uv;
+    track.sz = chain.sz;
+    track.pt = chain.uv.pt(m_state.bzForPt);
+  }
+
   static double increase(double chi2, int ndf, double delta) {
     double before = ndf > 0 ? chi2 / ndf : 0.0;
     return (chi2 + delta) / (ndf + 1) - before;
