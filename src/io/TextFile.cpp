@@ -238,4 +238,13 @@ void writeTextFile(const std::filesystem::path& file, std::string_view text,
   }
 }
 
+void removeIfExists(const std::filesystem::path& file) {
+  std::error_code ec;
+  std::filesystem::remove(file, ec);
+  if (ec) {
+    throw InputError(location(file.string()),
+                     "cannot remove stale file: " + ec.message());
+  }
+}
+
 }  // namespace conftrack

@@ -5,6 +5,7 @@
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/TextFile.hpp"
 
 #include <stdexcept>
 #include <unordered_map>
@@ -40,15 +41,6 @@ std::vector<std::string_view> trackColumns() {
   columns.insert(columns.end(), {c::kChi2, c::kNdf, c::kNHits, c::kNOutliers,
                                  c::kStep, c::kPtEstimate, c::kFitted});
   return columns;
-}
-
-void removeIfExists(const std::filesystem::path& file) {
-  std::error_code ec;
-  std::filesystem::remove(file, ec);
-  if (ec) {
-    throw InputError(location(file.string()),
-                     "cannot remove stale file: " + ec.message());
-  }
 }
 
 /// The plain or the .gz variant of a file, whichever exists.

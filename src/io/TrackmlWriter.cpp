@@ -22,15 +22,6 @@ std::string describe(const DetectorId& id) {
          std::to_string(id.layer) + ")";
 }
 
-void removeIfExists(const std::filesystem::path& file) {
-  std::error_code ec;
-  std::filesystem::remove(file, ec);
-  if (ec) {
-    throw InputError(location(file.string()),
-                     "cannot remove stale file: " + ec.message());
-  }
-}
-
 }  // namespace
 
 void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,

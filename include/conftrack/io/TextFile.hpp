@@ -37,4 +37,9 @@ void writeTextFile(const std::filesystem::path& file, std::string_view text,
 /// True if `file` ends in ".gz" (the writers' rule to choose compression).
 bool hasGzipExtension(const std::filesystem::path& file);
 
+/// Removes `file` if it exists (a stale variant of a file being written,
+/// e.g. the .csv when the .csv.gz is written). Throws InputError if it
+/// exists and cannot be removed.
+void removeIfExists(const std::filesystem::path& file);
+
 }  // namespace conftrack
