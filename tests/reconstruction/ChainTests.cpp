@@ -31,7 +31,7 @@ std::string with(const std::string& from, const std::string& to) {
 TEST(Chain, ShippedChainsMatchTheReference) {
   Detector clic = loadDetector("clicdet");
   FinderConfig c = readChain(resolveChainPath("clicdet"), clic);
-  ASSERT_EQ(c.steps.size(), 6u);
+  ASSERT_EQ(c.steps.size(), 7u);
   // algorithm.md 13.1 (CLICPerformance at HEAD).
   EXPECT_EQ(c.steps[0].name, "VXDBarrel");
   EXPECT_DOUBLE_EQ(c.steps[0].maxCellAngle, 0.005);
@@ -46,6 +46,10 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   EXPECT_EQ(c.steps[5].direction, SearchDirection::eOutsideIn);
   // conftrack applies the displaced step's chi2 cut to both fits (README).
   EXPECT_TRUE(!c.steps[5].onlySzChi2Cut && !c.steps[5].straightLineFit);
+  // conftrack's seventh step: four-hit displaced tracks (README).
+  EXPECT_EQ(c.steps[6].name, "Displaced4");
+  EXPECT_EQ(c.steps[6].minHits, 4u);
+  EXPECT_EQ(c.steps[6].direction, SearchDirection::eOutsideIn);
   EXPECT_DOUBLE_EQ(c.thetaRange, 0.05);
 
   Detector cld = loadDetector("cld");

@@ -162,8 +162,9 @@ TEST_F(FinderPhysics, TtbarWithoutBackground) {
   EXPECT_GE(ratio(s.clicdpFound, s.clicdpParticles), 0.995);
   EXPECT_LE(ratio(s.impure, s.tracks), 0.01);
   // Without the selection, daughters of B hadrons that decay far out in
-  // the tracker dominate the losses (measured 97.8 %).
-  EXPECT_GE(ratio(s.found, s.particles), 0.97);
+  // the tracker dominate the losses (measured 99.1 %; 97.8 % before the
+  // four-hit displaced step).
+  EXPECT_GE(ratio(s.found, s.particles), 0.985);
 }
 
 TEST_F(FinderPhysics, TtbarWith30BunchCrossings) {
@@ -175,7 +176,7 @@ TEST_F(FinderPhysics, TtbarWith30BunchCrossings) {
   report("ttbar + 30 BX pT > 1 GeV", s);
   EXPECT_GE(ratio(s.clicdpFound, s.clicdpParticles), 0.99);
   EXPECT_LE(ratio(s.impure, s.tracks), 0.02);
-  EXPECT_GE(ratio(s.found, s.particles), 0.96);
+  EXPECT_GE(ratio(s.found, s.particles), 0.98);  // measured 99.2 %
 }
 
 TEST_F(FinderPhysics, IndependentOfHitOrder) {

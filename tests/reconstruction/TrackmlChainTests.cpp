@@ -94,7 +94,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(c.maxPathsPerSeed, 50u);
 
   // The step additions default to upstream's behaviour; the CLICdet chain
-  // uses only the seed caps and tracker seeds in the displaced step.
+  // uses only the seed caps and tracker seeds in the displaced steps.
   const Detector clic = loadDetector("clicdet");
   const FinderConfig minimal =
       parseChain(minimalStep("VertexBarrel"), "minimal.toml", clic);
@@ -108,16 +108,17 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_TRUE(minimal.finalHoleFilling && minimal.scatteringAllowance);
   const FinderConfig clicChain = readChain(resolveChainPath("clicdet"), clic);
   for (const FindingStep& s : clicChain.steps) {
-    EXPECT_EQ(s.seedCollections.size(), s.name == "Displaced" ? 4u : 0u);
+    const bool displaced = s.name.starts_with("Displaced");
+    EXPECT_EQ(s.seedCollections.size(),
+              s.name == "Displaced" ? 4u : (displaced ? 2u : 0u));
     EXPECT_EQ(s.chi2PtScale, 0.0);
-    const bool vertexBuild = s.build && s.name != "Displaced";
+    const bool vertexBuild = s.build && !displaced;
     EXPECT_EQ(s.maxSeedZ0,
               vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
         << s.name;
     EXPECT_EQ(s.maxSeedCells, s.build && s.radialSearch ? 30u : 0u) << s.name;
-    EXPECT_EQ(s.maxSeedLength, s.name == "Displaced"
-                                   ? 800.0
-                                   : std::numeric_limits<double>::infinity())
+    EXPECT_EQ(s.maxSeedLength,
+              displaced ? 800.0 : std::numeric_limits<double>::infinity())
         << s.name;
   }
 }
