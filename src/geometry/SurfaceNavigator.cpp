@@ -32,28 +32,26 @@ double NavigationSurface::xOverX0(const Vector3& position,
 }
 
 SurfaceNavigator::SurfaceNavigator(const Detector& detector) {
-  for (std::size_t i = 0; i < detector.layers().size(); ++i) {
-    const SensitiveLayer& l = detector.layers()[i];
+  // The shape, extent and material that sensitive layers and passive
+  // surfaces have in common.
+  auto surfaceOf = [](const auto& from) {
     NavigationSurface s;
-    s.shape = l.shape;
-    s.r = l.r;
-    s.zMin = l.zMin;
-    s.zMax = l.zMax;
-    s.rMin = l.rMin;
-    s.rMax = l.rMax;
-    s.thicknessX0 = l.thicknessX0;
+    s.shape = from.shape;
+    s.r = from.r;
+    s.zMin = from.zMin;
+    s.zMax = from.zMax;
+    s.rMin = from.rMin;
+    s.rMax = from.rMax;
+    s.thicknessX0 = from.thicknessX0;
+    return s;
+  };
+  for (std::size_t i = 0; i < detector.layers().size(); ++i) {
+    NavigationSurface s = surfaceOf(detector.layers()[i]);
     s.layer = static_cast<std::int32_t>(i);
     m_surfaces.push_back(s);
   }
   for (const PassiveSurface& p : detector.passives()) {
-    NavigationSurface s;
-    s.shape = p.shape;
-    s.r = p.r;
-    s.zMin = p.zMin;
-    s.zMax = p.zMax;
-    s.rMin = p.rMin;
-    s.rMax = p.rMax;
-    s.thicknessX0 = p.thicknessX0;
+    NavigationSurface s = surfaceOf(p);
     if (p.shape == SurfaceShape::eCone) {
       s.coneR1 = p.coneR1;
       s.coneSlope = (p.coneR2 - p.coneR1) / (p.zMax - p.zMin);

@@ -16,6 +16,23 @@ namespace conftrack {
 
 namespace {
 
+/// The columns of a three-vector (x, y, z), read in one go.
+struct VectorColumns {
+  std::size_t x;
+  std::size_t y;
+  std::size_t z;
+
+  static VectorColumns require(const CsvReader& csv, std::string_view x,
+                               std::string_view y, std::string_view z) {
+    return {csv.requireColumn(x), csv.requireColumn(y), csv.requireColumn(z)};
+  }
+  /// The row's vector, in the given unit.
+  Vector3 read(CsvReader& csv, double unit) const {
+    return Vector3(csv.getDouble(x) * unit, csv.getDouble(y) * unit,
+                   csv.getDouble(z) * unit);
+  }
+};
+
 /// Finds the layer of TrackML (volume, layer), remembering the last answer:
 /// hits come grouped by module, so the lookup is almost always a hit.
 class LayerCache {
@@ -93,9 +110,7 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
   namespace c = trackml::hits;
   CsvReader csv = CsvReader::open(file);
   const std::size_t cId = csv.requireColumn(c::kHitId);
-  const std::size_t cX = csv.requireColumn(c::kX);
-  const std::size_t cY = csv.requireColumn(c::kY);
-  const std::size_t cZ = csv.requireColumn(c::kZ);
+  const auto cPos = VectorColumns::require(csv, c::kX, c::kY, c::kZ);
   const std::size_t cVolume = csv.requireColumn(c::kVolumeId);
   const std::size_t cLayer = csv.requireColumn(c::kLayerId);
   const std::size_t cModule = csv.requireColumn(c::kModuleId);
@@ -125,9 +140,7 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
     if (!contiguous && !seen.insert(hit.id).second) {
       csv.fail("duplicate hit_id " + std::to_string(hit.id));
     }
-    hit.position =
-        Vector3(csv.getDouble(cX) * units::mm, csv.getDouble(cY) * units::mm,
-                csv.getDouble(cZ) * units::mm);
+    hit.position = cPos.read(csv, units::mm);
     if (hit.position.x() == 0.0 && hit.position.y() == 0.0) {
       csv.fail("hit_id " + std::to_string(hit.id) +
                " lies on the z axis (x = y = 0): conformal coordinates are "
@@ -180,12 +193,8 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
   CsvReader csv = CsvReader::open(file);
   const std::size_t cHitId = csv.requireColumn(c::kHitId);
   const std::size_t cParticle = csv.requireColumn(c::kParticleId);
-  const std::size_t cTx = csv.requireColumn(c::kTx);
-  const std::size_t cTy = csv.requireColumn(c::kTy);
-  const std::size_t cTz = csv.requireColumn(c::kTz);
-  const std::size_t cTpx = csv.requireColumn(c::kTpx);
-  const std::size_t cTpy = csv.requireColumn(c::kTpy);
-  const std::size_t cTpz = csv.requireColumn(c::kTpz);
+  const auto cPos = VectorColumns::require(csv, c::kTx, c::kTy, c::kTz);
+  const auto cMom = VectorColumns::require(csv, c::kTpx, c::kTpy, c::kTpz);
   const auto cWeight = csv.findColumn(c::kWeight);
   const auto cTime = csv.findColumn(c::kTime);
 
@@ -205,12 +214,8 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
     filled[index] = 1;
     HitTruth& t = truth[index];
     t.particleId = csv.getInteger<std::uint64_t>(cParticle);
-    t.position =
-        Vector3(csv.getDouble(cTx) * units::mm, csv.getDouble(cTy) * units::mm,
-                csv.getDouble(cTz) * units::mm);
-    t.momentum = Vector3(csv.getDouble(cTpx) * units::GeV,
-                         csv.getDouble(cTpy) * units::GeV,
-                         csv.getDouble(cTpz) * units::GeV);
+    t.position = cPos.read(csv, units::mm);
+    t.momentum = cMom.read(csv, units::GeV);
     t.weight = cWeight ? csv.getDouble(*cWeight) : 0.0;
     t.time = cTime ? csv.getDouble(*cTime) * units::ns : 0.0;
   }
@@ -231,12 +236,8 @@ std::vector<Particle> readParticles(const std::filesystem::path& file) {
   namespace c = trackml::particles;
   CsvReader csv = CsvReader::open(file);
   const std::size_t cId = csv.requireColumn(c::kParticleId);
-  const std::size_t cVx = csv.requireColumn(c::kVx);
-  const std::size_t cVy = csv.requireColumn(c::kVy);
-  const std::size_t cVz = csv.requireColumn(c::kVz);
-  const std::size_t cPx = csv.requireColumn(c::kPx);
-  const std::size_t cPy = csv.requireColumn(c::kPy);
-  const std::size_t cPz = csv.requireColumn(c::kPz);
+  const auto cVertex = VectorColumns::require(csv, c::kVx, c::kVy, c::kVz);
+  const auto cMom = VectorColumns::require(csv, c::kPx, c::kPy, c::kPz);
   const std::size_t cQ = csv.requireColumn(c::kQ);
   const std::size_t cNHits = csv.requireColumn(c::kNHits);
   // Kaggle files lack particle_type; conftrack's extras are optional too.
@@ -260,12 +261,8 @@ std::vector<Particle> readParticles(const std::filesystem::path& file) {
       csv.fail("duplicate particle_id " + std::to_string(p.id));
     }
     p.pdg = cType ? csv.getInteger<std::int32_t>(*cType) : 0;
-    p.vertex =
-        Vector3(csv.getDouble(cVx) * units::mm, csv.getDouble(cVy) * units::mm,
-                csv.getDouble(cVz) * units::mm);
-    p.momentum = Vector3(csv.getDouble(cPx) * units::GeV,
-                         csv.getDouble(cPy) * units::GeV,
-                         csv.getDouble(cPz) * units::GeV);
+    p.vertex = cVertex.read(csv, units::mm);
+    p.momentum = cMom.read(csv, units::GeV);
     p.charge = csv.getDouble(cQ);
     p.nHits = csv.getInteger<std::uint32_t>(cNHits);
     p.time = cVt ? csv.getDouble(*cVt) * units::ns : 0.0;
