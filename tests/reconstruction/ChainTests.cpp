@@ -31,7 +31,7 @@ std::string with(const std::string& from, const std::string& to) {
 TEST(Chain, ShippedChainsMatchTheReference) {
   Detector clic = loadDetector("clicdet");
   FinderConfig c = readChain(resolveChainPath("clicdet"), clic);
-  ASSERT_EQ(c.steps.size(), 7u);
+  ASSERT_EQ(c.steps.size(), 8u);
   // algorithm.md 13.1 (CLICPerformance at HEAD).
   EXPECT_EQ(c.steps[0].name, "VXDBarrel");
   EXPECT_DOUBLE_EQ(c.steps[0].maxCellAngle, 0.005);
@@ -50,6 +50,13 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   EXPECT_EQ(c.steps[6].name, "Displaced4");
   EXPECT_EQ(c.steps[6].minHits, 4u);
   EXPECT_EQ(c.steps[6].direction, SearchDirection::eOutsideIn);
+  // ... and its eighth: helix triplets for displaced tracks (README).
+  EXPECT_EQ(c.steps[7].name, "DisplacedHelix");
+  EXPECT_TRUE(c.steps[7].helix && !c.steps[7].build && !c.steps[7].extend);
+  EXPECT_EQ(c.steps[7].minHits, 4u);
+  EXPECT_DOUBLE_EQ(c.steps[7].minPt, 0.5);
+  EXPECT_DOUBLE_EQ(c.steps[7].maxSeedLength, 400.0);
+  EXPECT_EQ(c.steps[7].maxMissedLayers, 0u);
   EXPECT_DOUBLE_EQ(c.thetaRange, 0.05);
 
   Detector cld = loadDetector("cld");

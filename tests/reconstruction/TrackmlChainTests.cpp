@@ -110,15 +110,17 @@ TEST(TrackmlChain, ShippedChainSettings) {
   for (const FindingStep& s : clicChain.steps) {
     const bool displaced = s.name.starts_with("Displaced");
     EXPECT_EQ(s.seedCollections.size(),
-              s.name == "Displaced" ? 4u : (displaced ? 2u : 0u));
+              s.name == "Displaced" || s.helix ? 4u : (displaced ? 2u : 0u));
     EXPECT_EQ(s.chi2PtScale, 0.0);
     const bool vertexBuild = s.build && !displaced;
     EXPECT_EQ(s.maxSeedZ0,
               vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
         << s.name;
     EXPECT_EQ(s.maxSeedCells, s.build && s.radialSearch ? 30u : 0u) << s.name;
-    EXPECT_EQ(s.maxSeedLength,
-              displaced ? 800.0 : std::numeric_limits<double>::infinity())
+    EXPECT_EQ(
+        s.maxSeedLength,
+        s.helix ? 400.0
+                : (displaced ? 800.0 : std::numeric_limits<double>::infinity()))
         << s.name;
   }
 }

@@ -78,6 +78,10 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
       detail::buildTracks(state, step, static_cast<std::uint16_t>(i), *pool,
                           stats);
     }
+    if (step.helix) {
+      detail::buildHelixTracks(state, step, static_cast<std::uint16_t>(i),
+                               *pool, stats);
+    }
     state.compact();
     if (step.extend) {
       detail::extendTracks(state, step, *pool, stats);

@@ -203,7 +203,7 @@ class Extender {
   /// the track is too short or does not fit.
   bool begin(const TrackCandidate& track, bool catchAll, bool inward,
              Chain& chain) {
-    if (track.hits.size() < 3) {
+    if (track.hits.size() < 3 || track.helix) {
       return false;
     }
     m_catchAll = catchAll;

@@ -5,6 +5,7 @@
 #include "conftrack/core/Error.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace conftrack {
 
@@ -66,16 +67,18 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
   }
   std::vector<std::string> actions = t.getStringArray("actions");
   if (actions.empty()) {
-    t.fail("actions", "at least one of \"build\", \"extend\", \"sort\"");
+    t.fail("actions",
+           "at least one of \"build\", \"extend\", \"sort\", \"helix\"");
   }
   for (const std::string& a : actions) {
     bool* flag = a == "build"    ? &s.build
                  : a == "extend" ? &s.extend
                  : a == "sort"   ? &s.sort
+                 : a == "helix"  ? &s.helix
                                  : nullptr;
     if (flag == nullptr) {
-      t.fail("actions",
-             "unknown action \"" + a + "\" (expected build, extend, sort)");
+      t.fail("actions", "unknown action \"" + a +
+                            "\" (expected build, extend, sort, helix)");
     }
     if (*flag) {
       t.fail("actions", "action \"" + a + "\" listed twice");
@@ -101,6 +104,17 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
       t.getDouble("max_seed_length_mm", s.maxSeedLength, Range::positive());
   s.maxSeedCells = static_cast<std::uint32_t>(
       t.getInt("max_seed_cells", s.maxSeedCells, Range::closed(0, 1e6)));
+  s.minPt = t.getDouble("min_pt_GeV", s.minPt, Range::nonNegative());
+  s.maxD0 = t.getDouble("max_d0_mm", s.maxD0, Range::positive());
+  s.maxMissedLayers = static_cast<std::uint32_t>(
+      t.getInt("max_missed_layers", s.maxMissedLayers, Range::closed(0, 10)));
+  if (s.helix && !std::isfinite(s.maxSeedLength)) {
+    t.fail("max_seed_length_mm",
+           "required by the \"helix\" action (it bounds the seed search)");
+  }
+  if (s.helix && s.minPt <= 0.0) {
+    t.fail("min_pt_GeV", "required by the \"helix\" action (> 0)");
+  }
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);

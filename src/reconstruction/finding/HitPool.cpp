@@ -680,6 +680,25 @@ void HitPool::layerWindow(std::uint32_t layer, double phi, double halfWidth,
   collectLayer(k, wLo, wHi, phi, halfWidth, out);
 }
 
+void HitPool::layerBox(std::uint32_t layer, double phi, double halfWidth,
+                       double zLo, double zHi, double rLo, double rHi,
+                       std::vector<ConfIndex>& out) const {
+  auto it = std::lower_bound(m_layers.begin(), m_layers.end(), layer);
+  if (it == m_layers.end() || *it != layer) {
+    return;
+  }
+  const auto k = static_cast<std::size_t>(it - m_layers.begin());
+  const LayerBins& bins = m_layerBins[k];
+  const double lo =
+      bins.alongZ ? std::max(zLo, bins.zMin) : std::max(rLo, bins.rMin);
+  const double hi =
+      bins.alongZ ? std::min(zHi, bins.zMax) : std::min(rHi, bins.rMax);
+  if (lo > hi) {
+    return;
+  }
+  collectLayer(k, lo, hi, phi, halfWidth, out);
+}
+
 void HitPool::collectLayer(std::size_t k, double wLo, double wHi, double phi,
                            double halfWidth,
                            std::vector<ConfIndex>& out) const {

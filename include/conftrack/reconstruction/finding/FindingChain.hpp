@@ -35,6 +35,10 @@ struct FindingStep {
   bool build = false;   ///< BuildNewTracks
   bool extend = false;  ///< ExtendTracks
   bool sort = false;    ///< SortTracks by pT, descending
+  /// Helix-triplet building of displaced tracks (a conftrack addition,
+  /// HelixTracks.cpp): seeds are triplets of hits with a free circle, not
+  /// one through the beam line; requires maxSeedLength.
+  bool helix = false;
   /// Maximum angle between consecutive cells in (u, v) [rad].
   double maxCellAngle = 0.005;
   /// Maximum angle between consecutive cells in (z, R) [rad].
@@ -87,6 +91,14 @@ struct FindingStep {
   /// denser the event, so without a bound the cost per seed grows with the
   /// occupancy.
   std::uint32_t maxSeedCells = 0;
+  /// Helix steps: minimum pT of a seed triplet's circle [GeV].
+  double minPt = 0.0;
+  /// Helix steps: maximum transverse distance of closest approach of a
+  /// seed triplet's circle to the beam line [mm].
+  double maxD0 = std::numeric_limits<double>::infinity();
+  /// Helix steps: at most this many predicted layer crossings without a
+  /// compatible hit between two hits of a track.
+  std::uint32_t maxMissedLayers = 1;
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).

@@ -76,6 +76,12 @@ class HitPool {
   void layerWindow(std::uint32_t layer, double phi, double halfWidth,
                    std::vector<ConfIndex>& out,
                    const RzCone* rz = nullptr) const;
+  /// Appends the members on one detector layer with azimuth in the window
+  /// and z in [zLo, zHi] (barrel layers) or R in [rLo, rHi] (disks): a
+  /// superset (whole bins along the layer), unordered.
+  void layerBox(std::uint32_t layer, double phi, double halfWidth, double zLo,
+                double zHi, double rLo, double rHi,
+                std::vector<ConfIndex>& out) const;
   /// Detector layers that have members, ascending.
   const std::vector<std::uint32_t>& layers() const { return m_layers; }
 

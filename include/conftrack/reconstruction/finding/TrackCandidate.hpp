@@ -21,6 +21,9 @@ struct TrackCandidate {
   /// Step that created it.
   std::uint16_t step = 0;
   bool fitBackward = false;
+  /// Built by a helix step: its hits need not lie on a line or parabola in
+  /// the conformal plane, so the conformal extensions leave it alone.
+  bool helix = false;
   /// False once removed by the clone treatment.
   bool alive = true;
 

@@ -71,6 +71,13 @@ void buildTracks(FinderState& state, const FindingStep& step,
                  std::uint16_t stepIndex, const HitPool& pool,
                  StepStats& stats);
 
+/// Helix-triplet building of displaced tracks (FindingStep::helix): seeds
+/// are triplets of unused hits with a free circle, followed outwards along
+/// their helix; accepted tracks claim their hits at once.
+void buildHelixTracks(FinderState& state, const FindingStep& step,
+                      std::uint16_t stepIndex, const HitPool& pool,
+                      StepStats& stats);
+
 /// Completion of a newly built track (a conftrack addition; upstream has
 /// neither part): for inside-out steps, follows its fitted helix from the
 /// first hit back towards the IP through the step's layers and adds

@@ -1,0 +1,860 @@
+// Helix-triplet building of displaced tracks (a conftrack addition; the
+// paper and upstream have no such step).
+//
+// The conformal map is taken about the beam line: a track's circle maps to
+// a line only if it passes through the origin, and to a circle of radius
+// about 1 / (2 d0) otherwise. Particles produced tens of mm or more from the
+// beam line (secondaries of the material, decays) have impact parameters
+// comparable to the radii of the layers they cross, so their hits are far
+// from any line or parabola in (u, v) and the cellular automaton cannot
+// build them. This builder works in real space instead:
+// - Seeds are triplets of unused hits on consecutive layers (the straight
+//   line between two seed hits must not pass well inside another layer),
+//   each within maxSeedLength of the previous one and further out (larger
+//   radius on a barrel layer, larger |z| on a disk). The third hit is
+//   searched only around the doublet's chord extended to the next layer,
+//   as wide as a track of pT >= minPt can bend. The circle through the
+//   three, with no beam-line constraint, must have pT >= minPt (within the
+//   error of a three-hit curvature) and |d0| <= maxD0, and the slopes of its
+//   two segments in the (s, z) plane, where a helix is straight, must agree
+//   within maxCellAngleRZ plus three standard deviations of multiple
+//   scattering and resolution.
+// - The straightest triplets of a seed hit (at most maxSeedCells) are
+//   followed outwards along the helix of the circle fitted to all their hits
+//   and the straight-line fit of z versus arc length. At the first predicted
+//   layer crossing with compatible hits, the one with the lowest chi2 is
+//   added; the chi2 has the hit resolution, the multiple scattering in the
+//   last layer (Highland) and the extrapolation error of the fit. At most
+//   maxMissedLayers crossings well inside a layer pass without a hit.
+// - Of the candidates of one seed hit with at least minHits hits, the
+//   longest (then lowest chi2 per hit) is kept and claims its hits at once;
+//   seed hits are taken innermost first, so the result does not depend on
+//   the input order.
+
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/MaterialInteractions.hpp"
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace conftrack::detail {
+
+namespace {
+
+/// Margin around a layer's extent when predicting crossings [mm].
+constexpr double kLayerMargin = 5.0;
+/// Search windows extend this many standard deviations around a
+/// prediction; the chi2 cut decides.
+constexpr double kWindowSigmas = 5.0;
+/// A crossing this far inside a layer's edges without a hit is a miss [mm].
+constexpr double kEdgeMargin = 10.0;
+/// Crossings nearer than this to the last hit are that hit's own [mm].
+constexpr double kMinStep = 0.5;
+/// Extensions look for the next hit on layers up to this many times
+/// maxSeedLength away (seed hits are at most maxSeedLength apart).
+constexpr double kReachFactor = 4.0;
+constexpr double kSqrt2 = 1.4142135623730951;
+/// A seed's third hit is searched on the first layer crossed and on those
+/// at most this much further along the chord [mm] (double layers,
+/// overlapping barrel and disk edges).
+constexpr double kFirstLayerSlack = 20.0;
+/// Smallest window half-width around a predicted crossing [mm].
+constexpr double kMinWindow = 0.5;
+
+/// A circle in the transverse plane with a direction of motion.
+struct Circle {
+  double cx = 0.0;
+  double cy = 0.0;
+  double rho = 0.0;
+  int orientation = 1;  ///< +1 counter-clockwise
+
+  /// Arc length from point a to point b along the motion, in [0, 2 pi rho).
+  double arc(double ax, double ay, double bx, double by) const {
+    const double pax = ax - cx;
+    const double pay = ay - cy;
+    const double pbx = bx - cx;
+    const double pby = by - cy;
+    double angle =
+        orientation * std::atan2(pax * pby - pay * pbx, pax * pbx + pay * pby);
+    if (angle < 0.0) {
+      angle += 2.0 * std::numbers::pi;
+    }
+    return rho * angle;
+  }
+  /// The point at arc length s after (x, y), a point on the circle.
+  void advance(double x, double y, double s, double& outX, double& outY) const {
+    const double a = orientation * s / rho;
+    const double c = std::cos(a);
+    const double sn = std::sin(a);
+    const double dx = x - cx;
+    const double dy = y - cy;
+    outX = cx + c * dx - sn * dy;
+    outY = cy + sn * dx + c * dy;
+  }
+  /// Distance of closest approach to the beam line.
+  double d0() const { return std::abs(std::hypot(cx, cy) - rho); }
+};
+
+/// The circle through three points, oriented from the first to the last;
+/// false if they are (numerically) on a line.
+bool circleThrough(double x1, double y1, double x2, double y2, double x3,
+                   double y3, Circle& out) {
+  const double ax = x2 - x1;
+  const double ay = y2 - y1;
+  const double bx = x3 - x1;
+  const double by = y3 - y1;
+  const double cross = ax * by - ay * bx;
+  const double a2 = ax * ax + ay * ay;
+  const double b2 = bx * bx + by * by;
+  // |cross| = |a| |b| sin(angle): below 1e-12 the radius exceeds any
+  // detector by far and the centre is numerically meaningless.
+  if (!(std::abs(cross) > 1e-12 * std::sqrt(a2 * b2))) {
+    return false;
+  }
+  const double d = 2.0 * cross;
+  const double ux = (by * a2 - ay * b2) / d;
+  const double uy = (ax * b2 - bx * a2) / d;
+  out.cx = x1 + ux;
+  out.cy = y1 + uy;
+  out.rho = std::hypot(ux, uy);
+  out.orientation = cross > 0.0 ? 1 : -1;
+  return true;
+}
+
+/// Least-squares circle through points (algebraic distance, Kasa): exact
+/// for three points; false if degenerate or (numerically) straight.
+/// `orientation` comes from the first, middle and last points.
+bool fitCircle(const ConformalHits& hits, const std::vector<ConfIndex>& idx,
+               Circle& out) {
+  const std::size_t n = idx.size();
+  if (n == 3) {
+    return circleThrough(hits.x[idx[0]], hits.y[idx[0]], hits.x[idx[1]],
+                         hits.y[idx[1]], hits.x[idx[2]], hits.y[idx[2]], out);
+  }
+  // Centred on the first point for conditioning.
+  const double x0 = hits.x[idx[0]];
+  const double y0 = hits.y[idx[0]];
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (ConfIndex h : idx) {
+    const double x = hits.x[h] - x0;
+    const double y = hits.y[h] - y0;
+    const Eigen::Vector3d row(x, y, 1.0);
+    const double rhs = -(x * x + y * y);
+    a += row * row.transpose();
+    b += row * rhs;
+  }
+  const Eigen::Vector3d sol = a.ldlt().solve(b);
+  if (!sol.allFinite()) {
+    return false;
+  }
+  const double cx = -0.5 * sol(0);
+  const double cy = -0.5 * sol(1);
+  const double r2 = cx * cx + cy * cy - sol(2);
+  if (!(r2 > 0.0) || r2 > 1e16) {
+    return false;
+  }
+  const ConfIndex m = idx[n / 2];
+  const ConfIndex e = idx[n - 1];
+  const double cross =
+      (hits.x[m] - x0) * (hits.y[e] - y0) - (hits.y[m] - y0) * (hits.x[e] - x0);
+  out.cx = x0 + cx;
+  out.cy = y0 + cy;
+  out.rho = std::sqrt(r2);
+  out.orientation = cross > 0.0 ? 1 : -1;
+  return true;
+}
+
+/// Smallest distance between two layers' extents [mm].
+double layerDistance(const SensitiveLayer& a, const SensitiveLayer& b) {
+  auto gap = [](double lo1, double hi1, double lo2, double hi2) {
+    return std::max({0.0, lo2 - hi1, lo1 - hi2});
+  };
+  const double dz = gap(a.zMin, a.zMax, b.zMin, b.zMax);
+  const double dr = gap(a.rMin, a.rMax, b.rMin, b.rMax);
+  return std::hypot(dz, dr);
+}
+
+/// A candidate being followed: hits with their arc lengths along the
+/// track, and the straight-line fit z = z0 + t s.
+struct Path {
+  std::vector<ConfIndex> hits;
+  std::vector<double> s;
+  double chi2 = 0.0;
+  double z0 = 0.0;
+  double t = 0.0;
+};
+
+/// A seed: three hits, their circle, and the (s, z) kink in units of its
+/// expected spread.
+struct Triplet {
+  Path path;
+  Circle circle;
+  double kink = 0.0;
+};
+
+/// A predicted crossing of a layer.
+struct Crossing {
+  std::uint32_t layer;
+  double ds;  ///< arc length from the last hit
+  double x, y, z;
+  bool inside;  ///< well inside the layer's extent
+};
+
+class HelixBuilder {
+ public:
+  HelixBuilder(FinderState& state, const FindingStep& step,
+               std::uint16_t stepIndex, const HitPool& pool, StepStats& stats)
+      : m_state(state),
+        m_hits(state.hits),
+        m_layers(state.detector.layers()),
+        m_step(step),
+        m_stepIndex(stepIndex),
+        m_pool(pool),
+        m_stats(stats),
+        m_minRho(step.minPt /
+                 (constants::kPtPerTeslaMm * std::abs(state.bzForPt))) {
+    m_maxTheta0.resize(m_layers.size());
+    for (std::uint32_t a : m_pool.layers()) {
+      m_maxTheta0[a] = theta0(a, step.minPt, 0.0);
+    }
+    // The pool's layers within maxSeedLength of each layer: the only ones
+    // a seed or an extension looks at.
+    const std::vector<std::uint32_t>& layers = m_pool.layers();
+    m_near.resize(m_layers.size());
+    m_reach.resize(m_layers.size());
+    for (std::uint32_t a : layers) {
+      for (std::uint32_t b : layers) {
+        const double d = layerDistance(m_layers[a], m_layers[b]);
+        if (d <= step.maxSeedLength) {
+          m_near[a].push_back(b);
+        }
+        if (d <= kReachFactor * step.maxSeedLength) {
+          m_reach[a].push_back(b);
+        }
+      }
+    }
+  }
+
+  void run() {
+    for (ConfIndex seed : m_pool.members()) {
+      if (m_state.used[seed] != 0 || !seedAllowed(seed)) {
+        continue;
+      }
+      ++m_stats.seeds;
+      Path best;
+      followSeed(seed, best);
+      if (best.hits.size() < m_step.minHits) {
+        continue;
+      }
+      accept(best);
+    }
+  }
+
+ private:
+  bool seedAllowed(ConfIndex h) const {
+    const auto& seeds = m_step.seedCollections;
+    return seeds.empty() || std::find(seeds.begin(), seeds.end(),
+                                      m_hits.subdetector[h]) != seeds.end();
+  }
+
+  /// True if the straight line from hit a to hit b passes well inside
+  /// another layer of the pool (a doublet must not skip a layer; over a
+  /// seed's length the helix is close to the chord).
+  bool chordSkipsLayer(ConfIndex a, ConfIndex b) const {
+    const double ra = m_hits.radius[a];
+    const double rb = m_hits.radius[b];
+    const double za = m_hits.z[a];
+    const double zb = m_hits.z[b];
+    for (std::uint32_t layer : m_near[m_hits.layer[a]]) {
+      if (layer == m_hits.layer[a] || layer == m_hits.layer[b]) {
+        continue;
+      }
+      const SensitiveLayer& l = m_layers[layer];
+      if (l.isDisk()) {
+        const double z = l.z();
+        if ((z - za) * (z - zb) >= 0.0) {
+          continue;
+        }
+        const double r = ra + (rb - ra) * (z - za) / (zb - za);
+        if (r > l.rMin + kEdgeMargin && r < l.rMax - kEdgeMargin) {
+          return true;
+        }
+      } else {
+        const double r = l.r;
+        if ((r - ra) * (r - rb) >= 0.0) {
+          continue;
+        }
+        const double z = za + (zb - za) * (r - ra) / (rb - ra);
+        if (z > l.zMin + kEdgeMargin && z < l.zMax - kEdgeMargin) {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  /// Seeds move outwards: to a larger radius on a barrel layer, to a
+  /// larger |z| on a disk.
+  bool outwards(ConfIndex from, ConfIndex to) const {
+    return m_layers[m_hits.layer[to]].isDisk()
+               ? std::abs(m_hits.z[to]) > std::abs(m_hits.z[from])
+               : m_hits.radius[to] > m_hits.radius[from];
+  }
+
+  /// Unused pool hits within maxSeedLength of hit `from`, on other layers
+  /// than `from` and `other`, at a larger radius; sorted by index.
+  void neighbours(ConfIndex from, std::uint32_t other,
+                  std::vector<ConfIndex>& out) {
+    out.clear();
+    const double len = m_step.maxSeedLength;
+    const double r1 = m_hits.radius[from];
+    const double z1 = m_hits.z[from];
+    for (std::uint32_t layer : m_near[m_hits.layer[from]]) {
+      if (layer == m_hits.layer[from] || layer == other) {
+        continue;
+      }
+      const SensitiveLayer& l = m_layers[layer];
+      double dphi = std::numbers::pi;
+      if (l.isDisk()) {
+        const double dz = std::abs(l.z() - z1);
+        // Towards a disk the particle moves away from z = 0; its radius
+        // may shrink at first (a large impact parameter).
+        if (dz > len || std::abs(l.z()) <= std::abs(z1)) {
+          continue;
+        }
+        const double reach = std::sqrt(len * len - dz * dz);
+        if (reach < r1) {
+          dphi = std::asin(reach / r1);
+        }
+        m_window.clear();
+        m_pool.layerBox(layer, m_hits.phi[from], dphi, l.z() - 1.0, l.z() + 1.0,
+                        r1 - reach, r1 + reach, m_window);
+      } else {
+        const double dr = l.r - r1;
+        if (dr <= 0.0 || dr > len) {
+          continue;
+        }
+        const double reach = std::sqrt(len * len - dr * dr);
+        const double c = (r1 * r1 + l.r * l.r - len * len) / (2.0 * r1 * l.r);
+        if (c > -1.0) {
+          dphi = std::acos(std::min(1.0, c));
+        }
+        m_window.clear();
+        m_pool.layerBox(layer, m_hits.phi[from], dphi, z1 - reach, z1 + reach,
+                        l.r - 1.0, l.r + 1.0, m_window);
+      }
+      for (ConfIndex h : m_window) {
+        if (m_state.used[h] != 0 || !outwards(from, h)) {
+          continue;
+        }
+        const double dx = m_hits.x[h] - m_hits.x[from];
+        const double dy = m_hits.y[h] - m_hits.y[from];
+        const double dz = m_hits.z[h] - z1;
+        if (dx * dx + dy * dy + dz * dz <= len * len &&
+            !chordSkipsLayer(from, h)) {
+          out.push_back(h);
+        }
+      }
+    }
+    std::sort(out.begin(), out.end());
+  }
+
+  /// Unused pool hits that can follow the doublet (h1, h2) on a track of
+  /// pT >= minPt, sorted by index: on each nearby layer (not theirs), the
+  /// window around the doublet's chord extended from h2, as wide as the
+  /// bending (the chord's direction differs from the track's at h2 by at
+  /// most d12 / (2 rho_min), and a track leaves its tangent by
+  /// l^2 / (2 rho_min)) and, along z or R, as the longitudinal deflection
+  /// at pT = minPt allows.
+  void thirdCandidates(ConfIndex h1, ConfIndex h2,
+                       std::vector<ConfIndex>& out) {
+    out.clear();
+    const double len = m_step.maxSeedLength;
+    const double x2 = m_hits.x[h2];
+    const double y2 = m_hits.y[h2];
+    const double z2 = m_hits.z[h2];
+    double ux = x2 - m_hits.x[h1];
+    double uy = y2 - m_hits.y[h1];
+    const double d12 = std::hypot(ux, uy);
+    if (!(d12 > 0.0)) {
+      return;
+    }
+    ux /= d12;
+    uy /= d12;
+    const double t12 = (z2 - m_hits.z[h1]) / d12;
+    const double secL = std::hypot(1.0, t12);
+    const double kinkZ =
+        (m_step.maxCellAngleRZ + 3.0 * m_maxTheta0[m_hits.layer[h2]]) * secL *
+        secL;
+    const double proj = x2 * ux + y2 * uy;
+    const double r2sq = x2 * x2 + y2 * y2;
+    // Distance along the chord to each nearby layer; only the first layer
+    // crossed well inside its extent, and those just beyond it, are
+    // searched (a seed does not skip layers).
+    m_layerSteps.clear();
+    double first = std::numeric_limits<double>::infinity();
+    for (std::uint32_t layer : m_near[m_hits.layer[h2]]) {
+      if (layer == m_hits.layer[h1] || layer == m_hits.layer[h2]) {
+        continue;
+      }
+      const SensitiveLayer& l = m_layers[layer];
+      double lambda = 0.0;
+      bool inside = false;
+      if (l.isDisk()) {
+        if (std::abs(t12) < 1e-6) {
+          continue;
+        }
+        lambda = (l.z() - z2) / t12;
+        const double r = std::hypot(x2 + lambda * ux, y2 + lambda * uy);
+        inside = r > l.rMin + kEdgeMargin && r < l.rMax - kEdgeMargin;
+      } else {
+        const double disc = proj * proj - (r2sq - l.r * l.r);
+        if (disc < 0.0) {
+          continue;
+        }
+        lambda = -proj + std::sqrt(disc);
+        const double z = z2 + t12 * lambda;
+        inside = z > l.zMin + kEdgeMargin && z < l.zMax - kEdgeMargin;
+      }
+      if (!(lambda > 0.0) || lambda * secL > len) {
+        continue;
+      }
+      m_layerSteps.emplace_back(lambda, layer);
+      if (inside) {
+        first = std::min(first, lambda);
+      }
+    }
+    for (const auto& [lambda, layer] : m_layerSteps) {
+      if (lambda > first + kFirstLayerSlack) {
+        continue;
+      }
+      const SensitiveLayer& l = m_layers[layer];
+      const double px = x2 + lambda * ux;
+      const double py = y2 + lambda * uy;
+      const double pr = std::hypot(px, py);
+      const double bend = lambda * (d12 + lambda) / (2.0 * m_minRho) + 1.0;
+      const double halfPhi =
+          bend >= pr ? std::numbers::pi : std::asin(bend / pr);
+      const double halfZ = kinkZ * lambda +
+                           3.0 * std::sqrt(m_hits.varZ[h2] + m_hits.varZ[h1] +
+                                           l.sigmaV * l.sigmaV) +
+                           std::abs(t12) * lambda * lambda / (2.0 * m_minRho);
+      m_window.clear();
+      const double pz = z2 + t12 * lambda;
+      m_pool.layerBox(layer, std::atan2(py, px), halfPhi, pz - halfZ,
+                      pz + halfZ, pr - bend, pr + bend, m_window);
+      for (ConfIndex h : m_window) {
+        if (m_state.used[h] == 0 && outwards(h2, h)) {
+          out.push_back(h);
+        }
+      }
+    }
+    std::sort(out.begin(), out.end());
+  }
+
+  /// Variance of the (s, z) slope between two hits a distance ds apart.
+  double slopeVariance(ConfIndex a, ConfIndex b, double ds, double t) const {
+    const double var = m_hits.varZ[a] + m_hits.varZ[b] +
+                       t * t * (m_hits.varRxy[a] + m_hits.varRxy[b]);
+    return var / (ds * ds);
+  }
+
+  /// Highland width of the deflection in `layer` for a track of
+  /// transverse momentum pt (at least minPt) and slope t = tan(lambda).
+  double theta0(std::uint32_t layer, double pt, double t) const {
+    const SensitiveLayer& l = m_layers[layer];
+    if (!(l.thicknessX0 > 0.0)) {
+      return 0.0;
+    }
+    const double secL = std::hypot(1.0, t);
+    // Path through the layer: 1/sin(theta) on a cylinder, 1/|cos(theta)|
+    // on a disk, capped at grazing incidence.
+    const double path = l.isDisk() ? secL / std::max(std::abs(t), 0.1) : secL;
+    return highlandTheta0(std::max(pt, m_step.minPt) * secL, 1.0, 1.0,
+                          l.thicknessX0 * std::min(path, 10.0));
+  }
+
+  /// False if the triplet's curvature exceeds that of pT = minPt by more
+  /// than three standard deviations of its measurement (hit resolution and
+  /// scattering in the middle layer): the circle through three hits a few
+  /// cm apart in the transverse plane (forward tracks) measures the
+  /// curvature poorly.
+  bool bendAllowed(ConfIndex h1, ConfIndex h2, ConfIndex h3,
+                   const Circle& c) const {
+    if (c.rho >= m_minRho) {
+      return true;
+    }
+    const double chord =
+        std::hypot(m_hits.x[h3] - m_hits.x[h1], m_hits.y[h3] - m_hits.y[h1]);
+    if (!(chord > 0.0)) {
+      return false;
+    }
+    const double sigmaHit =
+        std::sqrt(m_hits.varT[h2]) * m_hits.radius[h2] * m_hits.radius[h2];
+    const double sigmaRes = 8.0 * 1.22 * sigmaHit / (chord * chord);
+    const double sigmaMs = 2.0 * m_maxTheta0[m_hits.layer[h2]] / chord;
+    return 1.0 / c.rho <= 1.0 / m_minRho + 3.0 * std::hypot(sigmaRes, sigmaMs);
+  }
+
+  double ptOf(const Circle& c) const {
+    return constants::kPtPerTeslaMm * std::abs(m_state.bzForPt) * c.rho;
+  }
+
+  void followSeed(ConfIndex h1, Path& best) {
+    std::vector<ConfIndex> seconds;
+    std::vector<ConfIndex> thirds;
+    m_triplets.clear();
+    neighbours(h1, m_hits.layer[h1], seconds);
+    for (ConfIndex h2 : seconds) {
+      thirdCandidates(h1, h2, thirds);
+      for (ConfIndex h3 : thirds) {
+        Circle c;
+        if (!circleThrough(m_hits.x[h1], m_hits.y[h1], m_hits.x[h2],
+                           m_hits.y[h2], m_hits.x[h3], m_hits.y[h3], c) ||
+            c.d0() > m_step.maxD0 || !bendAllowed(h1, h2, h3, c)) {
+          continue;
+        }
+        const double s12 =
+            c.arc(m_hits.x[h1], m_hits.y[h1], m_hits.x[h2], m_hits.y[h2]);
+        const double s23 =
+            c.arc(m_hits.x[h2], m_hits.y[h2], m_hits.x[h3], m_hits.y[h3]);
+        // Both segments within the outgoing half-turn.
+        if (!(s12 > 0.0) || !(s23 > 0.0) ||
+            s12 + s23 > std::numbers::pi * c.rho) {
+          continue;
+        }
+        // Kink in the (s, z) plane against multiple scattering in the
+        // middle layer plus the hits' resolution.
+        const double t12 = (m_hits.z[h2] - m_hits.z[h1]) / s12;
+        const double t23 = (m_hits.z[h3] - m_hits.z[h2]) / s23;
+        const double dTheta = std::abs(std::atan(t23) - std::atan(t12));
+        const double cos2 = 1.0 / (1.0 + t12 * t12);
+        const double ms = theta0(m_hits.layer[h2], ptOf(c), t12);
+        const double var = ms * ms + cos2 * cos2 *
+                                         (slopeVariance(h1, h2, s12, t12) +
+                                          slopeVariance(h2, h3, s23, t23));
+        if (dTheta > m_step.maxCellAngleRZ + 3.0 * std::sqrt(var)) {
+          continue;
+        }
+        ++m_stats.cells;
+        Triplet tr;
+        tr.path.hits = {h1, h2, h3};
+        tr.path.s = {0.0, s12, s12 + s23};
+        tr.circle = c;
+        tr.kink = dTheta * dTheta / var;
+        fitSz(tr.path);
+        m_triplets.push_back(std::move(tr));
+      }
+    }
+    // The straightest triplets first; at most maxSeedCells are followed.
+    std::sort(m_triplets.begin(), m_triplets.end(),
+              [](const Triplet& a, const Triplet& b) {
+                return a.kink != b.kink ? a.kink < b.kink
+                                        : a.path.hits < b.path.hits;
+              });
+    std::size_t followed = 0;
+    for (Triplet& tr : m_triplets) {
+      if (m_step.maxSeedCells > 0 && followed >= m_step.maxSeedCells) {
+        break;
+      }
+      if (skipsLayer(tr.path, tr.circle)) {
+        continue;
+      }
+      ++followed;
+      Path& path = tr.path;
+      follow(path);
+      ++m_stats.paths;
+      if (path.hits.size() >= m_step.minHits) {
+        ++m_stats.candidates;
+        if (better(path, best)) {
+          best = std::move(path);
+        }
+      }
+    }
+  }
+
+  static bool better(const Path& a, const Path& b) {
+    if (a.hits.size() != b.hits.size()) {
+      return a.hits.size() > b.hits.size();
+    }
+    const double qa = a.chi2 / static_cast<double>(a.hits.size());
+    const double qb = b.chi2 / static_cast<double>(b.hits.size());
+    if (qa != qb) {
+      return qa < qb;
+    }
+    return a.hits < b.hits;
+  }
+
+  /// Weighted straight-line fit z = z0 + t s over the path's hits; the
+  /// error of s on disks (from the radial resolution) enters through the
+  /// previous slope.
+  void fitSz(Path& p) const {
+    double sw = 0.0, sws = 0.0, swz = 0.0, swss = 0.0, swsz = 0.0;
+    for (std::size_t k = 0; k < p.hits.size(); ++k) {
+      const ConfIndex h = p.hits[k];
+      const double var = m_hits.varZ[h] + p.t * p.t * m_hits.varRxy[h] + 1e-6;
+      const double w = 1.0 / var;
+      sw += w;
+      sws += w * p.s[k];
+      swz += w * m_hits.z[h];
+      swss += w * p.s[k] * p.s[k];
+      swsz += w * p.s[k] * m_hits.z[h];
+    }
+    const double det = sw * swss - sws * sws;
+    if (det > 0.0) {
+      p.t = (sw * swsz - sws * swz) / det;
+      p.z0 = (swz - p.t * sws) / sw;
+    }
+  }
+
+  /// Predicted crossings of the pool's layers after hit `from` (arc length
+  /// sFrom on the line z = z0 + t s), within the outgoing half-turn,
+  /// nearest first. `inside` is set for crossings at least kEdgeMargin
+  /// inside the layer's extent (where a missing hit is a real miss).
+  void predict(ConfIndex from, double sFrom, double z0, double t,
+               const Circle& c, std::vector<Crossing>& out) {
+    out.clear();
+    const double xl = m_hits.x[from];
+    const double yl = m_hits.y[from];
+    const double halfTurn = std::numbers::pi * c.rho;
+    for (std::uint32_t layer : m_reach[m_hits.layer[from]]) {
+      const SensitiveLayer& l = m_layers[layer];
+      if (l.isDisk()) {
+        if (layer == m_hits.layer[from] || std::abs(t) < 1e-9) {
+          continue;
+        }
+        const double ds = (l.z() - z0) / t - sFrom;
+        if (!(ds > kMinStep) || ds > halfTurn) {
+          continue;
+        }
+        double x = 0.0;
+        double y = 0.0;
+        c.advance(xl, yl, ds, x, y);
+        const double r = std::hypot(x, y);
+        if (r < l.rMin - kLayerMargin || r > l.rMax + kLayerMargin) {
+          continue;
+        }
+        const bool inside =
+            r > l.rMin + kEdgeMargin && r < l.rMax - kEdgeMargin;
+        out.push_back({layer, ds, x, y, l.z(), inside});
+      } else {
+        const double d = std::hypot(c.cx, c.cy);
+        const double rl = l.r;
+        if (d < 1e-9 || rl > d + c.rho || rl < std::abs(d - c.rho)) {
+          continue;
+        }
+        const double a = (rl * rl - c.rho * c.rho + d * d) / (2.0 * d);
+        const double h = std::sqrt(std::max(0.0, rl * rl - a * a));
+        const double ex = c.cx / d;
+        const double ey = c.cy / d;
+        for (int sign : {1, -1}) {
+          const double x = a * ex - sign * h * ey;
+          const double y = a * ey + sign * h * ex;
+          const double ds = c.arc(xl, yl, x, y);
+          if (!(ds > kMinStep) || ds > halfTurn) {
+            continue;
+          }
+          const double z = z0 + t * (sFrom + ds);
+          if (z < l.zMin - kLayerMargin || z > l.zMax + kLayerMargin) {
+            continue;
+          }
+          const bool inside =
+              z > l.zMin + kEdgeMargin && z < l.zMax - kEdgeMargin;
+          out.push_back({layer, ds, x, y, z, inside});
+        }
+      }
+    }
+    std::sort(out.begin(), out.end(), [](const Crossing& a, const Crossing& b) {
+      return a.ds != b.ds ? a.ds < b.ds : a.layer < b.layer;
+    });
+  }
+
+  /// True if the triplet's helix crosses another layer of the pool well
+  /// inside its extent between its first and last hit: a seed must not
+  /// skip a layer (the detector's layers are efficient, and a triplet
+  /// spread over distant layers is mostly a random combination).
+  bool skipsLayer(const Path& p, const Circle& c) {
+    predict(p.hits[0], 0.0, p.z0, p.t, c, m_crossings);
+    for (const Crossing& x : m_crossings) {
+      if (x.ds >= p.s[2] - 1e-6) {
+        break;
+      }
+      if (x.inside && x.layer != m_hits.layer[p.hits[1]]) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// Extends the path outwards hit by hit (see the file comment).
+  void follow(Path& p) {
+    std::vector<Crossing> crossings;
+    while (true) {
+      const std::size_t n = p.hits.size();
+      const ConfIndex last = p.hits[n - 1];
+      Circle c;
+      if (!fitCircle(m_hits, p.hits, c)) {
+        return;
+      }
+      // Arc lengths along the current circle, so that the s-z fit and the
+      // prediction use one consistent helix.
+      if (n > 3) {
+        for (std::size_t k = 1; k < n; ++k) {
+          const ConfIndex h0 = p.hits[k - 1];
+          const ConfIndex h1 = p.hits[k];
+          p.s[k] = p.s[k - 1] + c.arc(m_hits.x[h0], m_hits.y[h0], m_hits.x[h1],
+                                      m_hits.y[h1]);
+        }
+        fitSz(p);
+      }
+      predict(last, p.s.back(), p.z0, p.t, c, crossings);
+      const double secL = std::hypot(1.0, p.t);
+      const double ms0 = theta0(m_hits.layer[last], ptOf(c), p.t);
+      // Lever arm of the fitted circle: the path's length.
+      const double lever = std::max(p.s[n - 1], 1.0);
+      const double sigmaLast = std::sqrt(m_hits.varT[last]) *
+                               m_hits.radius[last] * m_hits.radius[last];
+      std::uint32_t missed = 0;
+      ConfIndex chosen = kInvalidIndex;
+      double chosenChi2 = 0.0;
+      for (const Crossing& x : crossings) {
+        // Scattering in the last layer turns the direction by theta0 / cos
+        // (lambda) in azimuth and theta0 / cos(lambda)^2 in dz/ds; the
+        // fitted direction carries about as much again from the layers
+        // before (factor 2 in the variances).
+        const double ms = kSqrt2 * ms0 * x.ds * secL;
+        const double msZ = ms * secL;
+        const double ratio = x.ds / lever;
+        const double extrap = sigmaLast * (1.0 + ratio * ratio);
+        const double extrapZ =
+            std::sqrt(m_hits.varZ[last] + 1e-4) * (1.0 + x.ds / lever);
+        const SensitiveLayer& l = m_layers[x.layer];
+        const double varPhi = l.sigmaU * l.sigmaU + ms * ms + extrap * extrap;
+        double varV = l.sigmaV * l.sigmaV + msZ * msZ + extrapZ * extrapZ;
+        if (l.isDisk()) {
+          // On a disk the transverse errors of the prediction move the
+          // crossing radially as much as in azimuth, and an error in the
+          // slope moves it along the track.
+          varV = l.sigmaV * l.sigmaV + ms * ms + extrap * extrap +
+                 (msZ * msZ + extrapZ * extrapZ) / std::max(p.t * p.t, 0.01);
+        }
+        const double rCross = std::hypot(x.x, x.y);
+        const double halfPhi =
+            std::max(kMinWindow, kWindowSigmas * std::sqrt(varPhi)) /
+            std::max(rCross, 1.0);
+        const double halfV =
+            std::max(kMinWindow, kWindowSigmas * std::sqrt(varV));
+        m_window.clear();
+        m_pool.layerBox(x.layer, std::atan2(x.y, x.x), halfPhi, x.z - halfV,
+                        x.z + halfV, rCross - halfV, rCross + halfV, m_window);
+        const double ux = -x.y / std::max(rCross, 1e-9);
+        const double uy = x.x / std::max(rCross, 1e-9);
+        for (ConfIndex h : m_window) {
+          if (m_state.used[h] != 0 || onPath(h, p)) {
+            continue;
+          }
+          const double dx = m_hits.x[h] - x.x;
+          const double dy = m_hits.y[h] - x.y;
+          const double rPhi = dx * ux + dy * uy;
+          const double rV =
+              l.isDisk() ? m_hits.radius[h] - rCross : m_hits.z[h] - x.z;
+          const double chi2 = rPhi * rPhi / varPhi + rV * rV / varV;
+          if (chi2 > m_step.chi2Cut) {
+            continue;
+          }
+          if (chosen == kInvalidIndex || chi2 < chosenChi2 ||
+              (chi2 == chosenChi2 && h < chosen)) {
+            chosen = h;
+            chosenChi2 = chi2;
+          }
+        }
+        if (chosen != kInvalidIndex) {
+          break;
+        }
+        if (x.inside && ++missed > m_step.maxMissedLayers) {
+          break;
+        }
+      }
+      if (chosen == kInvalidIndex) {
+        return;
+      }
+      const double s = p.s.back() + c.arc(m_hits.x[last], m_hits.y[last],
+                                          m_hits.x[chosen], m_hits.y[chosen]);
+      p.hits.push_back(chosen);
+      p.s.push_back(s);
+      p.chi2 += chosenChi2;
+      fitSz(p);
+    }
+  }
+
+  /// True if hit h is already on the path.
+  static bool onPath(ConfIndex h, const Path& p) {
+    return std::find(p.hits.begin(), p.hits.end(), h) != p.hits.end();
+  }
+
+  void accept(const Path& p) {
+    TrackCandidate t;
+    t.hits = p.hits;
+    Circle c;
+    const std::size_t n = p.hits.size();
+    fitCircle(m_hits, p.hits, c);
+    t.uv.valid = true;
+    t.uv.centreX = c.cx;
+    t.uv.centreY = c.cy;
+    t.uv.radius = c.rho;
+    t.uv.orientation = c.orientation;
+    t.uv.chi2 = p.chi2;
+    t.uv.ndf = static_cast<int>(n) - 3;
+    t.sz.valid = true;
+    t.sz.z0 = p.z0;
+    t.sz.tanLambda = p.t;
+    t.sz.lastS = p.s.back();
+    t.pt = t.uv.pt(m_state.bzForPt);
+    t.step = m_stepIndex;
+    t.fitBackward = m_step.fitBackward;
+    t.helix = true;
+    const auto index = static_cast<std::uint32_t>(m_state.tracks.size());
+    for (ConfIndex h : p.hits) {
+      m_state.used[h] = 1;
+      m_state.clones.addHit(h, index);
+    }
+    m_state.tracks.push_back(std::move(t));
+    ++m_stats.accepted;
+  }
+
+  FinderState& m_state;
+  const ConformalHits& m_hits;
+  const std::vector<SensitiveLayer>& m_layers;
+  const FindingStep& m_step;
+  std::uint16_t m_stepIndex;
+  const HitPool& m_pool;
+  StepStats& m_stats;
+  double m_minRho;
+  std::vector<ConfIndex> m_window;
+  std::vector<Crossing> m_crossings;
+  std::vector<Triplet> m_triplets;
+  std::vector<std::pair<double, std::uint32_t>> m_layerSteps;
+  /// Per detector layer: the scattering angle at pT = minPt, normal
+  /// incidence.
+  std::vector<double> m_maxTheta0;
+  /// Per detector layer: the pool's layers within maxSeedLength (seeds),
+  /// and within kReachFactor times that (extensions).
+  std::vector<std::vector<std::uint32_t>> m_near;
+  std::vector<std::vector<std::uint32_t>> m_reach;
+};
+
+}  // namespace
+
+void buildHelixTracks(FinderState& state, const FindingStep& step,
+                      std::uint16_t stepIndex, const HitPool& pool,
+                      StepStats& stats) {
+  HelixBuilder(state, step, stepIndex, pool, stats).run();
+}
+
+}  // namespace conftrack::detail
