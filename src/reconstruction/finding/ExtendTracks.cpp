@@ -29,7 +29,6 @@
 // continuation on the following layers (a look-ahead of
 // FinderConfig::extensionLookahead layers), and the lowest total wins.
 
-#include "conftrack/geometry/MaterialInteractions.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <algorithm>
@@ -377,18 +376,9 @@ class Extender {
                   ConfIndex from, ConfIndex to, double ds) const {
     Scatter out;
     const SensitiveLayer& layer = m_state.detector.layers()[m_hits.layer[from]];
-    const double tanL = sz.tanLambda;
-    const double secL = std::hypot(1.0, tanL);
-    // Path through the layer: 1/sin(theta) on a cylinder, 1/|cos(theta)| on
-    // a disk, capped at grazing incidence.
-    const double path =
-        layer.isDisk() ? secL / std::max(std::abs(tanL), 0.1) : secL;
-    const double p = uv.pt(m_state.bzForPt) * secL;
-    if (!(p > 0.0) || !(layer.thicknessX0 > 0.0)) {
-      return out;
-    }
+    const double secL = std::hypot(1.0, sz.tanLambda);
     const double theta0 =
-        highlandTheta0(p, 1.0, 1.0, layer.thicknessX0 * std::min(path, 10.0));
+        layerTheta0(layer, uv.pt(m_state.bzForPt) * secL, sz.tanLambda);
     const double d = theta0 * std::abs(ds) * secL;  // displacement [mm]
     const double r2 = m_hits.radius[to] * m_hits.radius[to];
     out.uv = d * d / (r2 * r2);

@@ -1,8 +1,21 @@
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
+#include "conftrack/geometry/MaterialInteractions.hpp"
+
 #include <algorithm>
+#include <cmath>
 
 namespace conftrack::detail {
+
+double layerTheta0(const SensitiveLayer& layer, double p, double tanLambda) {
+  if (!(p > 0.0) || !(layer.thicknessX0 > 0.0)) {
+    return 0.0;
+  }
+  const double secL = std::hypot(1.0, tanLambda);
+  const double path =
+      layer.isDisk() ? secL / std::max(std::abs(tanLambda), 0.1) : secL;
+  return highlandTheta0(p, 1.0, 1.0, layer.thicknessX0 * std::min(path, 10.0));
+}
 
 bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b) {
   if (a.hits.size() != b.hits.size()) {

@@ -32,7 +32,6 @@
 //   the input order.
 
 #include "conftrack/core/Units.hpp"
-#include "conftrack/geometry/MaterialInteractions.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <Eigen/Cholesky>
@@ -468,16 +467,8 @@ class HelixBuilder {
   /// Highland width of the deflection in `layer` for a track of
   /// transverse momentum pt (at least minPt) and slope t = tan(lambda).
   double theta0(std::uint32_t layer, double pt, double t) const {
-    const SensitiveLayer& l = m_layers[layer];
-    if (!(l.thicknessX0 > 0.0)) {
-      return 0.0;
-    }
-    const double secL = std::hypot(1.0, t);
-    // Path through the layer: 1/sin(theta) on a cylinder, 1/|cos(theta)|
-    // on a disk, capped at grazing incidence.
-    const double path = l.isDisk() ? secL / std::max(std::abs(t), 0.1) : secL;
-    return highlandTheta0(std::max(pt, m_step.minPt) * secL, 1.0, 1.0,
-                          l.thicknessX0 * std::min(path, 10.0));
+    return layerTheta0(m_layers[layer],
+                       std::max(pt, m_step.minPt) * std::hypot(1.0, t), t);
   }
 
   /// False if the triplet's curvature exceeds that of pT = minPt by more

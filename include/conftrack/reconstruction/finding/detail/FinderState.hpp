@@ -60,6 +60,13 @@ struct FinderState {
   void compact();
 };
 
+/// Highland width of the deflection in a layer of a track of momentum p
+/// [GeV] and slope tanLambda, the path through the layer being
+/// 1/sin(theta) on a cylinder and 1/|cos(theta)| on a disk, capped at
+/// grazing incidence; 0 without material or momentum. The finders' chi2s
+/// know only the hit resolutions and add this where scattering dominates.
+double layerTheta0(const SensitiveLayer& layer, double p, double tanLambda);
+
 /// Fits a hit list as a candidate of `step`; returns false if a fit fails
 /// or the chi2 cuts reject it.
 bool fitCandidate(const FinderState& state, const FindingStep& step,
