@@ -307,15 +307,14 @@ class HelixBuilder {
   }
 
   /// Unused pool hits within maxSeedLength of hit `from`, on other layers
-  /// than `from` and `other`, at a larger radius; sorted by index.
-  void neighbours(ConfIndex from, std::uint32_t other,
-                  std::vector<ConfIndex>& out) {
+  /// than its own, further out (outwards()); sorted by index.
+  void neighbours(ConfIndex from, std::vector<ConfIndex>& out) {
     out.clear();
     const double len = m_step.maxSeedLength;
     const double r1 = m_hits.radius[from];
     const double z1 = m_hits.z[from];
     for (std::uint32_t layer : m_near[m_hits.layer[from]]) {
-      if (layer == m_hits.layer[from] || layer == other) {
+      if (layer == m_hits.layer[from]) {
         continue;
       }
       const SensitiveLayer& l = m_layers[layer];
@@ -501,7 +500,7 @@ class HelixBuilder {
     std::vector<ConfIndex> seconds;
     std::vector<ConfIndex> thirds;
     m_triplets.clear();
-    neighbours(h1, m_hits.layer[h1], seconds);
+    neighbours(h1, seconds);
     for (ConfIndex h2 : seconds) {
       thirdCandidates(h1, h2, thirds);
       for (ConfIndex h3 : thirds) {
