@@ -32,6 +32,7 @@
 //   the input order.
 
 #include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/Helix.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <Eigen/Cholesky>
@@ -84,16 +85,6 @@ struct Circle {
       angle += 2.0 * std::numbers::pi;
     }
     return rho * angle;
-  }
-  /// The point at arc length s after (x, y), a point on the circle.
-  void advance(double x, double y, double s, double& outX, double& outY) const {
-    const double a = orientation * s / rho;
-    const double c = std::cos(a);
-    const double sn = std::sin(a);
-    const double dx = x - cx;
-    const double dy = y - cy;
-    outX = cx + c * dx - sn * dy;
-    outY = cy + sn * dx + c * dy;
   }
   /// Distance of closest approach to the beam line.
   double d0() const { return std::abs(std::hypot(cx, cy) - rho); }
@@ -610,54 +601,55 @@ class HelixBuilder {
   void predict(ConfIndex from, double sFrom, double z0, double t,
                const Circle& c, std::vector<Crossing>& out) {
     out.clear();
-    const double xl = m_hits.x[from];
-    const double yl = m_hits.y[from];
+    // The helix through the hit along the circle's tangent there (the
+    // crossings are geometry's, shared with the simulation and the fit).
+    const double rx = m_hits.x[from] - c.cx;
+    const double ry = m_hits.y[from] - c.cy;
+    const double rn = std::hypot(rx, ry);
+    if (!(rn > 0.0)) {
+      return;
+    }
+    const double pt = ptOf(c);
+    const Vector3 momentum(-c.orientation * ry / rn * pt,
+                           c.orientation * rx / rn * pt, t * pt);
+    // Counter-clockwise motion is negative curvature in a positive field.
+    const Helix helix(Vector3(m_hits.x[from], m_hits.y[from], z0 + t * sFrom),
+                      momentum, -c.orientation, std::abs(m_state.bzForPt));
     const double halfTurn = std::numbers::pi * c.rho;
+    auto add = [&](std::uint32_t layer, double ds, bool disk) {
+      const SensitiveLayer& l = m_layers[layer];
+      const Vector3 x = helix.position(ds);
+      const double r = x.head<2>().norm();
+      const bool inside =
+          disk ? r > l.rMin + kEdgeMargin && r < l.rMax - kEdgeMargin
+               : x.z() > l.zMin + kEdgeMargin && x.z() < l.zMax - kEdgeMargin;
+      out.push_back({layer, ds, x.x(), x.y(), x.z(), inside});
+    };
     for (std::uint32_t layer : m_reach[m_hits.layer[from]]) {
       const SensitiveLayer& l = m_layers[layer];
       if (l.isDisk()) {
-        if (layer == m_hits.layer[from] || std::abs(t) < 1e-9) {
+        if (layer == m_hits.layer[from]) {
           continue;
         }
-        const double ds = (l.z() - z0) / t - sFrom;
-        if (!(ds > kMinStep) || ds > halfTurn) {
-          continue;
+        const double ds =
+            helix.nextDiskCrossing(l.z(), l.rMin - kLayerMargin,
+                                   l.rMax + kLayerMargin, kMinStep, halfTurn);
+        if (ds != Helix::kNoCrossing) {
+          add(layer, ds, true);
         }
-        double x = 0.0;
-        double y = 0.0;
-        c.advance(xl, yl, ds, x, y);
-        const double r = std::hypot(x, y);
-        if (r < l.rMin - kLayerMargin || r > l.rMax + kLayerMargin) {
-          continue;
+        continue;
+      }
+      // A barrel layer may be crossed twice within the half-turn (out and
+      // back in, or its own layer again).
+      double after = kMinStep;
+      for (int k = 0; k < 2; ++k) {
+        const double ds = helix.nextCylinderCrossing(
+            l.r, l.zMin - kLayerMargin, l.zMax + kLayerMargin, after, halfTurn);
+        if (ds == Helix::kNoCrossing) {
+          break;
         }
-        const bool inside =
-            r > l.rMin + kEdgeMargin && r < l.rMax - kEdgeMargin;
-        out.push_back({layer, ds, x, y, l.z(), inside});
-      } else {
-        const double d = std::hypot(c.cx, c.cy);
-        const double rl = l.r;
-        if (d < 1e-9 || rl > d + c.rho || rl < std::abs(d - c.rho)) {
-          continue;
-        }
-        const double a = (rl * rl - c.rho * c.rho + d * d) / (2.0 * d);
-        const double h = std::sqrt(std::max(0.0, rl * rl - a * a));
-        const double ex = c.cx / d;
-        const double ey = c.cy / d;
-        for (int sign : {1, -1}) {
-          const double x = a * ex - sign * h * ey;
-          const double y = a * ey + sign * h * ex;
-          const double ds = c.arc(xl, yl, x, y);
-          if (!(ds > kMinStep) || ds > halfTurn) {
-            continue;
-          }
-          const double z = z0 + t * (sFrom + ds);
-          if (z < l.zMin - kLayerMargin || z > l.zMax + kLayerMargin) {
-            continue;
-          }
-          const bool inside =
-              z > l.zMin + kEdgeMargin && z < l.zMax - kEdgeMargin;
-          out.push_back({layer, ds, x, y, z, inside});
-        }
+        add(layer, ds, false);
+        after = ds;
       }
     }
     std::sort(out.begin(), out.end(), [](const Crossing& a, const Crossing& b) {
