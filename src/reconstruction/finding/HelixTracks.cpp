@@ -58,7 +58,6 @@ constexpr double kMinStep = 0.5;
 /// Extensions look for the next hit on layers up to this many times
 /// maxSeedLength away (seed hits are at most maxSeedLength apart).
 constexpr double kReachFactor = 4.0;
-constexpr double kSqrt2 = 1.4142135623730951;
 /// A seed's third hit is searched on the first layer crossed and on those
 /// at most this much further along the chord [mm] (double layers,
 /// overlapping barrel and disk edges).
@@ -710,7 +709,7 @@ class HelixBuilder {
         // (lambda) in azimuth and theta0 / cos(lambda)^2 in dz/ds; the
         // fitted direction carries about as much again from the layers
         // before (factor 2 in the variances).
-        const double ms = kSqrt2 * ms0 * x.ds * secL;
+        const double ms = std::numbers::sqrt2 * ms0 * x.ds * secL;
         const double msZ = ms * secL;
         const double ratio = x.ds / lever;
         const double extrap = sigmaLast * (1.0 + ratio * ratio);
