@@ -41,7 +41,8 @@ struct FindingStep {
   bool helix = false;
   /// Maximum angle between consecutive cells in (u, v) [rad].
   double maxCellAngle = 0.005;
-  /// Maximum angle between consecutive cells in (z, R) [rad].
+  /// Maximum longitudinal angle between consecutive cells [rad], taken in
+  /// (s, z) with s the transverse arc length (upstream: chords in (z, R)).
   double maxCellAngleRZ = 0.005;
   /// Maximum chi2/ndf of a candidate (each of uv and sz), and maximum
   /// increase of chi2/ndf when an extension adds a hit.
