@@ -106,11 +106,16 @@ class SeedAutomaton {
     // in 2 T bends by 0.02 rad in (z, R) across the TrackML pixel barrel.
     // The cell's conformal line lies 1 / (2 Rc) from the origin (circles
     // through the origin), which gives s(R) = 2 Rc asin(R / (2 Rc)).
-    const double k = std::abs(m_hits.u[a] * m_hits.v[b] -
-                              m_hits.u[b] * m_hits.v[a]) /
-                     l;
-    const double ds = arcLength(m_hits.radius[b], k) -
-                      arcLength(m_hits.radius[a], k);
+    // A hit beyond the reach of that circle (R > 2 Rc: a cell of a
+    // displaced track, whose conformal image is a circle, not a line)
+    // keeps the (z, R) chord.
+    const double k =
+        std::abs(m_hits.u[a] * m_hits.v[b] - m_hits.u[b] * m_hits.v[a]) / l;
+    const double ra = m_hits.radius[a];
+    const double rb = m_hits.radius[b];
+    const double ds = std::max(ra, rb) * k < 1.0
+                          ? arcLength(rb, k) - arcLength(ra, k)
+                          : rb - ra;
     const double ls = std::sqrt(dz * dz + ds * ds);
     c.dz = ls > 0.0 ? dz / ls : 0.0;
     c.ds = ls > 0.0 ? ds / ls : 1.0;
@@ -124,9 +129,8 @@ class SeedAutomaton {
            parent.dz * child.dz + parent.ds * child.ds >= m_cosCellAngleRZ;
   }
 
-  /// Transverse arc length from the origin to radius r on a circle through
-  /// the origin with curvature 2k (k = 1 / (2 Rc)); r beyond the circle's
-  /// reach (measurement noise near the apex) counts as the apex.
+  /// Transverse arc length from the origin to radius r < 1 / k on a circle
+  /// through the origin with curvature 2k (k = 1 / (2 Rc)).
   static double arcLength(double r, double k) {
     const double x = r * k;
     if (x < 0.3) {
@@ -135,7 +139,7 @@ class SeedAutomaton {
       const double x2 = x * x;
       return r * (1.0 + x2 * (1.0 / 6.0 + x2 * (3.0 / 40.0)));
     }
-    return x >= 1.0 ? 0.5 * std::numbers::pi / k : std::asin(x) / k;
+    return std::asin(x) / k;
   }
 
   static std::uint64_t key(ConfIndex a, ConfIndex b) {

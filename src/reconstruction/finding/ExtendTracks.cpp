@@ -40,11 +40,6 @@ namespace conftrack::detail {
 
 namespace {
 
-/// sqrt(x^2 + y^2) without std::hypot's overflow protection, which costs
-/// several times a square root and is not needed for lengths in mm or
-/// slopes (a tenth of the helix step's time went into hypot).
-inline double norm2(double x, double y) { return std::sqrt(x * x + y * y); }
-
 /// Margin around a layer's extent when predicting crossings [mm].
 constexpr double kLayerMargin = 10.0;
 /// The scattering allowance applies to hits on the nearest predicted layer
@@ -449,8 +444,7 @@ class Extender {
     // compares chords in (z, R); below a few GeV the track curves in that
     // plane (R grows slower than s), and at the outer tracker layers a 1 GeV
     // track's consecutive chords differ by more than 3 x 0.05 rad.
-    const double szNorm =
-        (m_inward ? -1.0 : 1.0) * norm2(1.0, sz.tanLambda);
+    const double szNorm = (m_inward ? -1.0 : 1.0) * norm2(1.0, sz.tanLambda);
     const double ts = 1.0 / szNorm;
     const double tz = sz.tanLambda / szNorm;
     const double rzCut = factor * m_step.maxCellAngleRZ;

@@ -46,11 +46,6 @@ namespace conftrack::detail {
 
 namespace {
 
-/// sqrt(x^2 + y^2) without std::hypot's overflow protection, which costs
-/// several times a square root and is not needed for lengths in mm or
-/// slopes (a tenth of the helix step's time went into hypot).
-inline double norm2(double x, double y) { return std::sqrt(x * x + y * y); }
-
 /// Margin around a layer's extent when predicting crossings [mm].
 constexpr double kLayerMargin = 5.0;
 /// Search windows extend this many standard deviations around a
