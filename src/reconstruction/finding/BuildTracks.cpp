@@ -43,11 +43,6 @@ struct Cell {
   double dz, ds;  // unit direction in (s, z), s the transverse arc length
 };
 
-/// Angle between two unit vectors, in [0, pi]: atan2(|a x b|, a . b).
-double angleBetween(double ax, double ay, double bx, double by) {
-  return std::atan2(std::abs(ax * by - ay * bx), ax * bx + ay * by);
-}
-
 class SeedAutomaton {
  public:
   SeedAutomaton(FinderState& state, const FindingStep& step,

@@ -51,10 +51,6 @@ constexpr double kScatterReach = 5.0;
 /// for hits away from the predicted point [rad].
 constexpr double kConeMargin = 0.01;
 
-double angleBetween(double ax, double ay, double bx, double by) {
-  return std::atan2(std::abs(ax * by - ay * bx), ax * bx + ay * by);
-}
-
 struct Prediction {
   double s;
   double phi;

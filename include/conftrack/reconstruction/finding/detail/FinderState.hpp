@@ -66,6 +66,12 @@ struct FinderState {
 /// slopes (a tenth of the helix step's time went into hypot).
 inline double norm2(double x, double y) { return std::sqrt(x * x + y * y); }
 
+/// Angle between two 2-D directions, in [0, pi]: atan2(|a x b|, a . b)
+/// (no NaN for parallel vectors, unlike acos of the dot product).
+inline double angleBetween(double ax, double ay, double bx, double by) {
+  return std::atan2(std::abs(ax * by - ay * bx), ax * bx + ay * by);
+}
+
 /// Highland width of the deflection in a layer of a track of momentum p
 /// [GeV] and slope tanLambda, the path through the layer being
 /// 1/sin(theta) on a cylinder and 1/|cos(theta)| on a disk, capped at
