@@ -15,8 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kHits = fs::path(CONFTRACK_SHARED_DIR) /
-                       "data/trackml/train_100_events_no_truth/"
+const fs::path kHits = fs::path(CONFTRACK_TEST_DATA_DIR) /
+                       "trackml/train_100_events_no_truth/"
                        "event000001001-hits.csv.gz";
 
 /// Decompression plus parsing: what readEvent costs per event.

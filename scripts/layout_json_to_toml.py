@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """Generates detectors/clicdet.toml and detectors/cld.toml from the layout
-JSON files of ../shared/reference (a developer tool; the TOML files are
-shipped and are what conftrack reads).
+JSON files in data/layouts/ (a developer tool; the TOML files are shipped
+and are what conftrack reads).
 
-Usage: scripts/layout_json_to_toml.py ../shared/reference/clicdet_layout.json \
+Usage: scripts/layout_json_to_toml.py data/layouts/clicdet_layout.json.gz \
            clicdet > detectors/clicdet.toml
 """
+import gzip
 import json
 import sys
 
@@ -24,8 +25,10 @@ def fmt(x):
 
 
 def main(path, short):
-    d = json.load(open(path))
-    src = "../shared/reference/" + path.split("/")[-1]
+    opener = gzip.open if path.endswith(".gz") else open
+    with opener(path, "rt") as f:
+        d = json.load(f)
+    src = "data/layouts/" + path.split("/")[-1]
     out = []
     w = out.append
     w(f"# {d['detector']} tracker, model {d['model']}: conftrack detector file.")

@@ -1,6 +1,7 @@
 // TrackML commands: score submissions, and make TrackML-like events with
 // truth from real particle files.
 
+#include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
@@ -62,7 +63,8 @@ void runScore(const ScoreOptions& opt) {
 struct TrackmlSimOptions {
   std::string input;
   std::string output = "trackml-events";
-  std::string detectorsCsv = "../shared/data/trackml/detectors.csv.gz";
+  std::string detectorsCsv =
+      (dataDirectory() / "data/trackml/detectors.csv.gz").string();
   double noise = 0.17;
   double minPt = 0.15;
   std::uint64_t seed = 1;

@@ -8,6 +8,12 @@
 
 namespace conftrack {
 
+std::filesystem::path dataDirectory() {
+  const char* env = std::getenv("CONFTRACK_DATA_DIR");
+  return env != nullptr ? std::filesystem::path(env)
+                        : std::filesystem::path(CONFTRACK_DATA_DIR);
+}
+
 std::filesystem::path resolveShippedFile(const std::string& folder,
                                          const std::string& nameOrPath,
                                          const std::string& what) {
@@ -17,10 +23,7 @@ std::filesystem::path resolveShippedFile(const std::string& folder,
       asPath.extension() == ".toml") {
     return asPath;
   }
-  const char* env = std::getenv("CONFTRACK_DATA_DIR");
-  fs::path dataDir =
-      env != nullptr ? fs::path(env) : fs::path(CONFTRACK_DATA_DIR);
-  fs::path candidate = dataDir / folder / (nameOrPath + ".toml");
+  fs::path candidate = dataDirectory() / folder / (nameOrPath + ".toml");
   if (!fs::exists(candidate)) {
     throw InputError(what + " '" + nameOrPath + "': no such shipped " + what +
                      " (looked for " + candidate.string() +

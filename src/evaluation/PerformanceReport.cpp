@@ -1,5 +1,7 @@
 #include "conftrack/evaluation/PerformanceReport.hpp"
 
+#include "conftrack/core/DataFiles.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -516,14 +518,7 @@ std::string findPlotInterpreter() {
 }
 
 fs::path plotScriptPath() {
-  const char* env = std::getenv("CONFTRACK_DATA_DIR");
-#ifdef CONFTRACK_DATA_DIR
-  const fs::path data =
-      env != nullptr ? fs::path(env) : fs::path(CONFTRACK_DATA_DIR);
-#else
-  const fs::path data = env != nullptr ? fs::path(env) : fs::path(".");
-#endif
-  return data / "scripts" / "conftrack_plots.py";
+  return dataDirectory() / "scripts" / "conftrack_plots.py";
 }
 
 PlotScriptResult runPlotScript(const fs::path& dir, std::ostream& log) {

@@ -30,7 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kTrackmlDir =
-    fs::path(CONFTRACK_SHARED_DIR) / "data/trackml/train_100_events_no_truth";
+    fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml/train_100_events_no_truth";
 
 using test::TempDir;
 using test::writeText;

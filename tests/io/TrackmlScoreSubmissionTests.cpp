@@ -25,7 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kTrackmlData = fs::path(CONFTRACK_SHARED_DIR) / "data/trackml";
+const fs::path kTrackmlData = fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml";
 
 using test::TempDir;
 using test::writeText;

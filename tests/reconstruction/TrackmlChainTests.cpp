@@ -40,7 +40,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kTrackmlData = fs::path(CONFTRACK_SHARED_DIR) / "data/trackml";
+const fs::path kTrackmlData = fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml";
 
 /// The Kaggle particles file (particle_id,vx,vy,vz,px,py,pz,q,nhits; mm,
 /// GeV), as the io reader fills it: no PDG code, status 1, sorted by id.

@@ -24,7 +24,7 @@ using namespace conftrack::units;
 namespace {
 
 const std::filesystem::path kHepMCDir =
-    std::filesystem::path(CONFTRACK_SHARED_DIR) / "data" / "hepmc";
+    std::filesystem::path(CONFTRACK_TEST_DATA_DIR) / "hepmc";
 
 /// "Charged stable" as PROVENANCE.md counts it.
 bool provenanceCharged(const Particle& p) {

@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kTrackmlData = fs::path(CONFTRACK_SHARED_DIR) / "data/trackml";
+const fs::path kTrackmlData = fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml";
 
 const std::vector<TrackmlModule>& trackmlModules() {
   static const std::vector<TrackmlModule> modules = [] {
@@ -136,7 +136,7 @@ TEST(TrackmlWeights, EventWeights) {
 // Kaggle table: regenerate it when the builder changes.
 TEST(TrackmlDetectorFile, MatchesGenerator) {
   TrackmlDetectorOptions options;
-  options.source = "../shared/data/trackml/detectors.csv.gz";
+  options.source = "data/trackml/detectors.csv.gz";
   std::string expected = buildTrackmlDetectorToml(trackmlModules(), options);
   std::string shipped =
       readConfigText(resolveDetectorPath("trackml"), "detector");

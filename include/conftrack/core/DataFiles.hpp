@@ -9,6 +9,11 @@
 
 namespace conftrack {
 
+/// The folder that holds the shipped detectors/, chains/, data/ and
+/// scripts/: the CONFTRACK_DATA_DIR environment variable if set, else the
+/// source tree the program was built from.
+std::filesystem::path dataDirectory();
+
 /// Resolves `nameOrPath`: a path (contains '/' or ends in .toml) is
 /// returned as is; a bare name is looked up as <data>/<folder>/<name>.toml,
 /// with <data> from the CONFTRACK_DATA_DIR environment variable or the
