@@ -17,5 +17,6 @@ void addEvaluateCommand(CLI::App& app);
 void addTrackmlCommands(CLI::App& app);
 void addDisplayCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addOverlayCommand(CLI::App& app);
 
 }  // namespace conftrack::cli

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   cli::addTrackmlCommands(app);
   cli::addDisplayCommand(app);
   cli::addBenchCommand(app);
+  cli::addOverlayCommand(app);
 
   try {
     app.parse(argc, argv);
