@@ -14,6 +14,7 @@
 #include "Commands.hpp"
 #include "EventLoop.hpp"
 #include "ReconstructionOptions.hpp"
+#include "StepReport.hpp"
 
 namespace conftrack::cli {
 
@@ -34,6 +35,7 @@ struct EventReport {
   std::size_t tracks = 0;
   double findingMs = 0.0;
   double fittingMs = 0.0;
+  std::vector<StepStats> steps;
 };
 
 void runReconstruct(const ReconstructOptions& opt) {
@@ -57,10 +59,13 @@ void runReconstruct(const ReconstructOptions& opt) {
       }
       writeSubmission(opt.output, events[i], event.hits, lists, opt.gzip);
     }
-    reports[i] = {event.hits.size(), r.tracks.size(), r.findingMs, r.fittingMs};
+    warnIfTruncated("event " + std::to_string(events[i]), r.steps);
+    reports[i] = {event.hits.size(), r.tracks.size(), r.findingMs, r.fittingMs,
+                  std::move(r.steps)};
   });
   EventReport total;
   for (const EventReport& e : reports) {
+    accumulateSteps(total.steps, e.steps);
     total.hits += e.hits;
     total.tracks += e.tracks;
     total.findingMs += e.findingMs;
@@ -72,6 +77,7 @@ void runReconstruct(const ReconstructOptions& opt) {
       "fitting %.1f ms per event; tracks in %s\n",
       events.size(), total.hits / n, total.tracks / n, total.findingMs / n,
       total.fittingMs / n, opt.output.c_str());
+  printStepTable(stdout, total.steps, events.size());
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "Commands.hpp"
 #include "EventLoop.hpp"
 #include "ReconstructionOptions.hpp"
+#include "StepReport.hpp"
 
 namespace conftrack::cli {
 
@@ -160,6 +161,10 @@ void runReport(const RunOptions& opt, const Detector& detector,
       double simMs =
           std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
       Reconstruction::Result r = reco.run(event.hits);
+      warnIfTruncated(spec.folder.empty()
+                          ? "event " + std::to_string(i + 1)
+                          : spec.folder + " event " + std::to_string(i + 1),
+                      r.steps);
       collector.addEvent(offset + i, event, r.tracks, detector.bz(), r.steps,
                          {simMs, r.findingMs, r.fittingMs + r.selectionMs});
       if (offset + i == 0) {

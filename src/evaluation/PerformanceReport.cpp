@@ -202,6 +202,16 @@ std::vector<std::pair<std::string, std::string>> tableRows(
         "  step " + step.name,
         fixed(d.events > 0 ? step.milliseconds / d.events : 0.0, 2) + " ms  (" +
             fixed(100.0 * step.milliseconds / finding, 1) + " % of finding)");
+    for (std::size_t i = 0; i < kGuardCount; ++i) {
+      const GuardCount& g = step.guards[i];
+      if (g.bites > 0) {
+        const auto guard = static_cast<Guard>(i);
+        rows.emplace_back("    guard " + std::string(guardKey(guard)),
+                          std::to_string(g.cut) + " " + guardCutUnit(guard) +
+                              " cut in " + std::to_string(g.bites) + " " +
+                              guardBiteUnit(guard));
+      }
+    }
   }
   rows.emplace_back("peak RSS", fixed(s.peakRssMb, 1) + " MiB");
   for (const PullResult& p : s.pulls) {
@@ -341,9 +351,19 @@ Json makeSummaryJson(const RunMetadata& m, const PerformanceSummary& s) {
     st["accepted"] = step.accepted;
     st["extended_hits"] = step.extendedHits;
     st["hits_used"] = step.hitsUsed;
-    st["path_overflows"] = step.pathOverflows;
-    st["cell_overflows"] = step.cellOverflows;
+    // (Kept for readers of older summaries: the bites of two guards.)
+    st["path_overflows"] = step.guard(Guard::ePathsPerSeed).bites;
+    st["cell_overflows"] = step.guard(Guard::eCellsPerSeed).bites;
     st["recovered"] = step.recovered;
+    st["cell_cache_flushes"] = step.cellCacheFlushes;
+    Json guards;
+    for (std::size_t i = 0; i < kGuardCount; ++i) {
+      Json g;
+      g["bites"] = step.guards[i].bites;
+      g["cut"] = step.guards[i].cut;
+      guards[guardKey(static_cast<Guard>(i))] = g;
+    }
+    st["guards"] = guards;
     stepList.push_back(st);
   }
   j["steps"] = stepList;
@@ -408,15 +428,25 @@ std::vector<std::string> writeHistogramCsvs(const fs::path& dir,
     std::ofstream out = openForWriting(file);
     out << "step,ms_per_event,share_of_finding,seeds,cells,paths,candidates,"
            "accepted,extended_hits,hits_used,path_overflows,cell_overflows,"
-           "recovered\n";
+           "recovered,cell_cache_flushes";
+    for (std::size_t i = 0; i < kGuardCount; ++i) {
+      const std::string key = guardKey(static_cast<Guard>(i));
+      out << ',' << key << "_bites," << key << "_cut";
+    }
+    out << '\n';
     for (const StepStats& st : d.steps) {
       out << st.name << ','
           << (d.events > 0 ? st.milliseconds / double(d.events) : 0.0) << ','
           << (d.findingMs > 0.0 ? st.milliseconds / d.findingMs : 0.0) << ','
           << st.seeds << ',' << st.cells << ',' << st.paths << ','
           << st.candidates << ',' << st.accepted << ',' << st.extendedHits
-          << ',' << st.hitsUsed << ',' << st.pathOverflows << ','
-          << st.cellOverflows << ',' << st.recovered << '\n';
+          << ',' << st.hitsUsed << ',' << st.guard(Guard::ePathsPerSeed).bites
+          << ',' << st.guard(Guard::eCellsPerSeed).bites << ',' << st.recovered
+          << ',' << st.cellCacheFlushes;
+      for (const GuardCount& g : st.guards) {
+        out << ',' << g.bites << ',' << g.cut;
+      }
+      out << '\n';
     }
     finish(out, file);
     files.push_back("time_steps.csv");

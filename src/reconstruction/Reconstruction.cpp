@@ -28,6 +28,8 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   std::vector<Track> tracks;
   if (m_config.fit) {
     FittingResult fitted = m_fitter.run(hits, found.tracks);
+    // The candidates are no longer needed: free them before the selection.
+    std::vector<FoundTrack>().swap(found.tracks);
     r.fittingMs = fitted.milliseconds;
     r.fitFailures = fitted.failures;
     tracks = std::move(fitted.tracks);

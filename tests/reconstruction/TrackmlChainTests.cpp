@@ -91,7 +91,11 @@ TEST(TrackmlChain, ShippedChainSettings) {
   ASSERT_EQ(c.steps[2].seedCollections.size(), 2u);
   EXPECT_EQ(c.steps[2].seedCollections[0],
             *detector.findSubdetector("PixelBarrel"));
-  EXPECT_EQ(c.maxPathsPerSeed, 50u);
+  // The builds' path limit of 50 is a step setting; the finder's guard
+  // keeps its default.
+  EXPECT_EQ(c.steps[0].maxPaths, 50u);
+  EXPECT_EQ(c.steps[2].maxPaths, 50u);
+  EXPECT_EQ(c.maxPathsPerSeed, FinderConfig{}.maxPathsPerSeed);
 
   // The step additions default to upstream's behaviour; the CLICdet chain
   // uses only the seed caps and tracker seeds in the displaced steps.

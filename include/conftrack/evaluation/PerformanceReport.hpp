@@ -13,7 +13,8 @@
 ///       lower,upper (binomial error; Wilson 68 % interval); pT in GeV,
 ///       angles in degrees, radius in mm, proximity in rad
 ///   time_per_event.csv                count CSV: low,high,count [ms]
-///   time_steps.csv                    step,ms_per_event,share,counters...
+///   time_steps.csv                    step,ms_per_event,share,counters...,
+///                                     <guard>_bites,<guard>_cut per guard
 ///   resolutions.csv, pulls.csv, pull_<name>.csv   single-particle samples
 ///   index.html, *.png                 from the plot script
 
@@ -61,7 +62,8 @@ struct RunMetadata {
 /// fake_rate_selected, duplicate_rate_selected (nHits >= min_track_hits),
 /// acts {matching_ratio, efficiency, fake_rate, duplicate_rate}, counts
 /// {name: {passed, total, value, uncertainty}} for every ratio, steps
-/// [{name, ms_per_event, counters...}].
+/// [{name, ms_per_event, counters..., cell_cache_flushes, guards {<guard
+/// key>: {bites, cut}}}] (the finder's combinatorics guards, StepStats.hpp).
 nlohmann::ordered_json makeSummaryJson(const RunMetadata& metadata,
                                        const PerformanceSummary& summary);
 

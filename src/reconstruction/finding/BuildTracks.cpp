@@ -15,18 +15,28 @@
 // - the enumeration is bounded per seed (maxPathsPerSeed); beyond it each
 //   remaining leaf contributes its straightest path (graceful degradation
 //   instead of upstream's TooManyTracks abort of the step);
+// - the combinatorics guards of FinderConfig (seed cells per seed, children
+//   per cell, cells, paths and leaves per seed) bound the work per seed at
+//   any hit density; each cuts by the order of the searches (nearest
+//   first) or of the leaves (longest first) and is counted in StepStats;
 // - a seed that is already on a track accepted in this step is skipped: its
 //   candidates would be subsets of that track and lose the clone treatment;
 // - the children of a cell depend only on the cell (its end hit and
-//   direction fix the search window) and the used flags, which do not
-//   change while a step builds. So cells and their children are computed
-//   once per step and shared by all seeds; a seed's automaton is the
-//   subgraph reachable from its seed cells, exactly the cells upstream
-//   rebuilds for it, at the cost of an integer graph traversal.
+//   direction fix the search window) and the used flags, which change
+//   during a build only where the completion of a new track claims hits.
+//   So cells and their children are computed once per step and shared by
+//   all seeds; a seed's automaton is the subgraph reachable from its seed
+//   cells, the cells upstream rebuilds for it (but for hits claimed by
+//   completions since the cells were made), at the cost of an integer
+//   graph traversal. The cache is emptied when it grows beyond
+//   FinderConfig::maxCachedCells (memory bound): cells made again after
+//   that see the claims made since, so where the bound acts the results
+//   can differ slightly from those of an unbounded cache.
 
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -41,6 +51,63 @@ struct Cell {
   ConfIndex end;
   double du, dv;  // unit direction in (u, v)
   double dz, ds;  // unit direction in (s, z), s the transverse arc length
+};
+
+/// Cell ids by (start hit, end hit) key: an open-addressing hash table
+/// (linear probing, at most half full). The cells leaving a hit grow with
+/// the hit density, so a list per start hit, searched linearly, made the
+/// look-ups quadratic in it. Ids do not depend on the table's layout.
+class CellIds {
+ public:
+  /// The id stored for `key`, or `id` stored for it now (second: true).
+  std::pair<std::uint32_t, bool> insert(std::uint64_t key, std::size_t id) {
+    if (2 * (m_size + 1) > m_keys.size()) {
+      grow();
+    }
+    std::size_t i = slot(key);
+    while (m_keys[i] != kEmpty) {
+      if (m_keys[i] == key) {
+        return {m_ids[i], false};
+      }
+      i = (i + 1) & (m_keys.size() - 1);
+    }
+    m_keys[i] = key;
+    m_ids[i] = static_cast<std::uint32_t>(id);
+    ++m_size;
+    return {m_ids[i], true};
+  }
+  /// Forgets every entry and gives the memory back.
+  void release() {
+    std::vector<std::uint64_t>().swap(m_keys);
+    std::vector<std::uint32_t>().swap(m_ids);
+    m_size = 0;
+  }
+
+ private:
+  static constexpr std::uint64_t kEmpty =
+      std::numeric_limits<std::uint64_t>::max();
+  std::size_t slot(std::uint64_t key) const {
+    // Fibonacci hashing: the high bits of the product.
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> m_shift);
+  }
+  void grow() {
+    std::vector<std::uint64_t> keys = std::move(m_keys);
+    std::vector<std::uint32_t> ids = std::move(m_ids);
+    const std::size_t capacity = keys.empty() ? 1024 : 2 * keys.size();
+    m_shift = 64 - std::countr_zero(capacity);
+    m_keys.assign(capacity, kEmpty);
+    m_ids.assign(capacity, 0);
+    m_size = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      if (keys[i] != kEmpty) {
+        insert(keys[i], ids[i]);
+      }
+    }
+  }
+  std::vector<std::uint64_t> m_keys;
+  std::vector<std::uint32_t> m_ids;
+  std::size_t m_size = 0;
+  int m_shift = 64;
 };
 
 class SeedAutomaton {
@@ -58,15 +125,14 @@ class SeedAutomaton {
 
   /// Runs the automaton for one seed; appends passing candidates.
   void run(ConfIndex seed, std::vector<TrackCandidate>& candidates) {
+    if (m_cells.size() > m_state.config.maxCachedCells) {
+      flushCache();
+    }
     ++m_stamp;
     m_sub.clear();
-    m_overflowCells = false;
     seedCells(seed);
     collectSubgraph();
     m_stats.cells += m_sub.size();
-    if (m_overflowCells) {
-      ++m_stats.cellOverflows;
-    }
     extractPaths(candidates);
   }
 
@@ -141,26 +207,33 @@ class SeedAutomaton {
     return (static_cast<std::uint64_t>(a) << 32) | b;
   }
 
-  /// The step-wide cell (a -> b), created on first use. The cells leaving
-  /// a hit are few: a short list per start hit beats a hash map.
-  std::uint32_t cellOf(ConfIndex a, ConfIndex b) {
-    if (m_outgoing.empty()) {
-      m_outgoing.resize(m_hits.size());
-    }
-    auto& out = m_outgoing[a];
-    for (const auto& [end, id] : out) {
-      if (end == b) {
-        return id;
+  /// The step-wide cells (a -> b) for every b in `ends`, created on first
+  /// use, appended to `out`.
+  void cellsOf(ConfIndex a, const std::vector<ConfIndex>& ends,
+               std::vector<std::uint32_t>& out) {
+    for (ConfIndex b : ends) {
+      auto [id, inserted] = m_cellIds.insert(key(a, b), m_cells.size());
+      if (inserted) {
+        m_cells.push_back(makeCell(a, b));
+        m_childBegin.push_back(kNotExpanded);
+        m_childCount.push_back(0);
+        m_visit.push_back(0);
+        m_local.push_back(0);
       }
+      out.push_back(id);
     }
-    auto id = static_cast<std::uint32_t>(m_cells.size());
-    out.emplace_back(b, id);
-    m_cells.push_back(makeCell(a, b));
-    m_childBegin.push_back(kNotExpanded);
-    m_childCount.push_back(0);
-    m_visit.push_back(0);
-    m_local.push_back(0);
-    return id;
+  }
+
+  /// Empties the step's cell cache (FinderConfig::maxCachedCells), giving
+  /// its memory back.
+  void flushCache() {
+    m_cellIds.release();
+    for (auto* v :
+         {&m_childBegin, &m_childCount, &m_childPool, &m_visit, &m_local}) {
+      std::vector<std::uint32_t>().swap(*v);
+    }
+    std::vector<Cell>().swap(m_cells);
+    ++m_stats.cellCacheFlushes;
   }
 
   /// Children of cell c: cells (end -> n) with n in the search window
@@ -205,10 +278,13 @@ class SeedAutomaton {
                  anglesPass(parent, makeCell(last, n));
         },
         &rzCone);
-    m_children.clear();
-    for (ConfIndex n : m_nb) {
-      m_children.push_back(cellOf(last, n));
+    const std::uint32_t maxChildren = m_state.config.maxCellNeighbours;
+    if (m_nb.size() > maxChildren) {
+      m_stats.guard(Guard::eCellNeighbours).add(m_nb.size() - maxChildren);
+      m_nb.resize(maxChildren);
     }
+    m_children.clear();
+    cellsOf(last, m_nb, m_children);
     m_childBegin[c] = static_cast<std::uint32_t>(m_childPool.size());
     m_childCount[c] = static_cast<std::uint32_t>(m_children.size());
     m_childPool.insert(m_childPool.end(), m_children.begin(), m_children.end());
@@ -294,14 +370,18 @@ class SeedAutomaton {
     if (m_step.maxSeedCells > 0 && m_nb.size() > m_step.maxSeedCells) {
       m_nb.resize(m_step.maxSeedCells);
     }
-    m_seedCells.clear();
-    for (ConfIndex n : m_nb) {
-      m_seedCells.push_back(cellOf(seed, n));
+    const std::uint32_t guard = m_state.config.maxSeedNeighbours;
+    if (m_nb.size() > guard) {
+      m_stats.guard(Guard::eSeedNeighbours).add(m_nb.size() - guard);
+      m_nb.resize(guard);
     }
+    m_seedCells.clear();
+    cellsOf(seed, m_nb, m_seedCells);
   }
 
   /// The seed's automaton: all cells reachable from its seed cells.
   void collectSubgraph() {
+    m_expanded = 0;
     for (std::uint32_t c : m_seedCells) {
       if (m_visit[c] != m_stamp) {
         m_visit[c] = m_stamp;
@@ -317,13 +397,16 @@ class SeedAutomaton {
           continue;
         }
         if (m_sub.size() >= m_state.config.maxCellsPerSeed) {
-          m_overflowCells = true;
+          // The cells after i stay unexpanded (leaves of the paths).
+          m_expanded = i + 1;
+          m_stats.guard(Guard::eCellsPerSeed).add(m_sub.size() - m_expanded);
           return;
         }
         m_visit[child] = m_stamp;
         m_sub.push_back(child);
       }
     }
+    m_expanded = m_sub.size();
   }
 
   void extractPaths(std::vector<TrackCandidate>& candidates) {
@@ -339,8 +422,10 @@ class SeedAutomaton {
     m_children.assign(n, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
       std::uint32_t c = m_sub[i];
-      if (m_childBegin[c] == kNotExpanded) {
-        continue;  // cut off by the cell cap: treated as a leaf
+      if (i >= m_expanded) {
+        // Cut off by the cell cap: a leaf, even if another seed expanded
+        // the cell (the result must not depend on the cache's history).
+        continue;
       }
       for (std::uint32_t k = 0; k < m_childCount[c]; ++k) {
         std::uint32_t child = m_childPool[m_childBegin[c] + k];
@@ -396,28 +481,36 @@ class SeedAutomaton {
                 return key(cell(a).start, cell(a).end) <
                        key(cell(b).start, cell(b).end);
               });
-    std::uint32_t budget = m_state.config.maxPathsPerSeed;
-    bool overflow = false;
+    const std::uint32_t maxLeaves = m_state.config.maxLeavesPerSeed;
+    if (m_leaves.size() > maxLeaves) {
+      m_stats.guard(Guard::eLeavesPerSeed).add(m_leaves.size() - maxLeaves);
+      m_leaves.resize(maxLeaves);
+    }
+    // The step's own path limit is a setting; only the guard's is counted.
+    const std::uint32_t guardPaths = m_state.config.maxPathsPerSeed;
+    const bool guardBinds =
+        m_step.maxPaths == 0 || guardPaths < m_step.maxPaths;
+    std::uint32_t budget = guardBinds ? guardPaths : m_step.maxPaths;
+    std::uint64_t reduced = 0;
     for (std::uint32_t leaf : m_leaves) {
       if (budget > 0) {
-        enumerate(leaf, budget, candidates);
-        if (budget == 0) {
-          overflow = true;
-        }
+        reduced += enumerate(leaf, budget, candidates) ? 0 : 1;
       } else {
         straightestPath(leaf, candidates);
+        ++reduced;
       }
     }
-    if (overflow) {
-      ++m_stats.pathOverflows;
+    if (reduced > 0 && guardBinds) {
+      m_stats.guard(Guard::ePathsPerSeed).add(reduced);
     }
   }
 
   /// Cell of local index i in the current subgraph.
   const Cell& cell(std::uint32_t i) const { return m_cells[m_sub[i]]; }
 
-  /// Depth-first enumeration of all paths from `leaf` back to seed cells.
-  void enumerate(std::uint32_t leaf, std::uint32_t& budget,
+  /// Depth-first enumeration of all paths from `leaf` back to seed cells,
+  /// at most `budget` of them; returns false if the budget cut it short.
+  bool enumerate(std::uint32_t leaf, std::uint32_t& budget,
                  std::vector<TrackCandidate>& candidates) {
     // Stack of (cell, next parent slot).
     m_stack.clear();
@@ -443,6 +536,10 @@ class SeedAutomaton {
       ++slot;
       m_stack.emplace_back(parent, m_parentBegin[parent]);
     }
+    // Complete if no cell left on the stack has a parent still to follow.
+    return std::all_of(m_stack.begin(), m_stack.end(), [&](const auto& e) {
+      return e.second == m_parentBegin[e.first + 1];
+    });
   }
 
   /// The path that always continues with the parent of smallest kink.
@@ -541,11 +638,10 @@ class SeedAutomaton {
   bool m_insideOut;
   double m_cosCellAngle;
   double m_cosCellAngleRZ;
-  bool m_overflowCells = false;
   // Step-wide cell graph (children computed once per cell).
   std::vector<Cell> m_cells;
   /// Per start hit: (end hit, cell) of the cells created so far.
-  std::vector<std::vector<std::pair<ConfIndex, std::uint32_t>>> m_outgoing;
+  CellIds m_cellIds;
   std::vector<std::uint32_t> m_childBegin;
   std::vector<std::uint32_t> m_childCount;
   std::vector<std::uint32_t> m_childPool;
@@ -554,6 +650,8 @@ class SeedAutomaton {
   // The current seed's subgraph (local indices into m_sub).
   std::vector<std::uint32_t> m_seedCells;
   std::vector<std::uint32_t> m_sub;
+  /// Cells m_sub[0, m_expanded) were expanded for the current seed.
+  std::size_t m_expanded = 0;
   std::vector<std::uint32_t> m_local;  // global -> local index
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_edges;  // child,
                                                                  // parent
@@ -566,6 +664,9 @@ class SeedAutomaton {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_stack;
   std::vector<std::uint32_t> m_path;
 };
+
+/// Dead (clone) tracks tolerated in the list before it is compacted.
+constexpr std::size_t kCompactAfter = 4096;
 
 }  // namespace
 
@@ -591,6 +692,15 @@ void buildTracks(FinderState& state, const FindingStep& step,
   for (ConfIndex seed : seeds) {
     if (state.used[seed] != 0 || onNewTrack[seed] != 0) {
       continue;
+    }
+    // Candidates replaced as clones stay in the list until compacted: in a
+    // dense event most accepted candidates are replaced later, and keeping
+    // them all made the memory grow with the number of candidates. The
+    // tracks of earlier steps are never clones of new ones (their hits are
+    // used), so they keep their places before firstNew.
+    if (state.clones.dead() >
+        std::max<std::size_t>(kCompactAfter, state.tracks.size() / 2)) {
+      state.compact();
     }
     ++stats.seeds;
     candidates.clear();

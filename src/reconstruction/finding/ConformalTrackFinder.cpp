@@ -9,21 +9,6 @@
 
 namespace conftrack {
 
-StepStats& StepStats::operator+=(const StepStats& o) {
-  seeds += o.seeds;
-  cells += o.cells;
-  paths += o.paths;
-  candidates += o.candidates;
-  accepted += o.accepted;
-  extendedHits += o.extendedHits;
-  hitsUsed += o.hitsUsed;
-  pathOverflows += o.pathOverflows;
-  cellOverflows += o.cellOverflows;
-  recovered += o.recovered;
-  milliseconds += o.milliseconds;
-  return *this;
-}
-
 Track toTrack(const FoundTrack& found) {
   Track t;
   t.hits = found.hits;
@@ -40,7 +25,9 @@ Track toTrack(const FoundTrack& found) {
 
 ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
                                            Config config)
-    : m_detector(&detector), m_config(std::move(config)) {}
+    : m_detector(&detector), m_config(std::move(config)) {
+  m_config.chain.validate();
+}
 
 namespace {
 using Clock = std::chrono::steady_clock;

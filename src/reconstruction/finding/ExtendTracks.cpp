@@ -28,6 +28,10 @@
 // few is scored by its chi2_uv + chi2_sz increase plus that of the best
 // continuation on the following layers (a look-ahead of
 // FinderConfig::extensionLookahead layers), and the lowest total wins.
+// The hits examined per predicted crossing are bounded
+// (FinderConfig::maxWindowHits, counted; the nearest to the predicted point
+// are kept), so that the cost per track does not grow without bound with
+// the hit density.
 
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
@@ -84,6 +88,11 @@ struct Chain {
 constexpr double kMissingHitChi2 = 16.0;
 /// Largest chi2_uv + chi2_sz increase of a hit filled into a hole.
 constexpr double kMaxHoleChi2 = 30.0;
+/// Half-length along the layer (z on barrels, R on disks) of the search box
+/// around a hole's predicted crossing [mm]: 16 sigma of the coarsest strip
+/// coordinate (TrackML long strips, 3 mm); a hole hit passing kMaxHoleChi2
+/// lies within 5.5 sigma.
+constexpr double kHoleWindow = 50.0;
 /// At most this many hits of one layer are followed in the look-ahead.
 constexpr std::size_t kLookaheadBranches = 3;
 
@@ -242,9 +251,16 @@ class Extender {
         if (!(p.s < hitS.back())) {
           continue;
         }
+        // Only hits near the predicted crossing along the layer (z on
+        // barrels, R on disks) can pass the hole cut, kMaxHoleChi2: without
+        // the box every hit of the layer's azimuth window is examined.
+        const double zAt = chain.sz.z0 + chain.sz.tanLambda * p.s;
+        const double rAt = chain.arc.pointAt(p.s).norm();
         m_window.clear();
-        m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
-                           m_window);
+        m_pool.layerBox(layer, p.phi, m_state.config.extensionPhiWindow,
+                        zAt - kHoleWindow, zAt + kHoleWindow, rAt - kHoleWindow,
+                        rAt + kHoleWindow, m_window);
+        limitWindow(Vector3(rAt * std::cos(p.phi), rAt * std::sin(p.phi), zAt));
         for (ConfIndex h : m_window) {
           if (m_state.used[h] != 0 || onSensorOf(chain.hits, h)) {
             continue;
@@ -485,6 +501,7 @@ class Extender {
         m_window.clear();
         m_pool.layerWindow(layer, p.phi, m_state.config.extensionPhiWindow,
                            m_window, coneNorm > 0.0 ? &rzCone : nullptr);
+        limitWindow(Vector3(at.x(), at.y(), sz.z0 + sz.tanLambda * p.s));
         for (ConfIndex h : m_window) {
           if (h == excluded || m_state.used[h] != 0 ||
               onSensorOf(chain.hits, h)) {
@@ -540,6 +557,32 @@ class Extender {
                 return a.chi2 != b.chi2 ? a.chi2 < b.chi2 : a.hit < b.hit;
               });
     return predicted;
+  }
+
+  /// Keeps at most FinderConfig::maxWindowHits hits of m_window, those
+  /// nearest to the predicted crossing `at` (then by index); counts the
+  /// cut. The callers choose among the hits by a total order, so the kept
+  /// set, not its order, must be deterministic.
+  void limitWindow(const Vector3& at) {
+    const std::size_t limit = m_state.config.maxWindowHits;
+    if (m_window.size() <= limit) {
+      return;
+    }
+    m_stats.guard(Guard::eWindowHits).add(m_window.size() - limit);
+    m_distances.clear();
+    for (ConfIndex h : m_window) {
+      const double dx = m_hits.x[h] - at.x();
+      const double dy = m_hits.y[h] - at.y();
+      const double dz = m_hits.z[h] - at.z();
+      m_distances.emplace_back(dx * dx + dy * dy + dz * dz, h);
+    }
+    std::nth_element(m_distances.begin(),
+                     m_distances.begin() + static_cast<std::ptrdiff_t>(limit),
+                     m_distances.end());
+    m_window.resize(limit);
+    for (std::size_t k = 0; k < limit; ++k) {
+      m_window[k] = m_distances[k].second;
+    }
   }
 
   /// Crossings of `layer` after arc length sLast (within one turn).
@@ -615,6 +658,8 @@ class Extender {
   bool m_quadratic = true;
   std::vector<Prediction> m_predictions;
   std::vector<ConfIndex> m_window;
+  /// Scratch of limitWindow: (squared distance, hit).
+  std::vector<std::pair<double, ConfIndex>> m_distances;
 };
 
 }  // namespace

@@ -33,12 +33,15 @@ bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
                        TrackCandidate candidate, std::uint32_t minShared) {
   // Count shared hits per alive track (candidates have few hits: a small
   // linear map beats a hash map).
+  // Tracks killed as clones are dropped from the lists on the way: within
+  // a build step every candidate replaces the clones of its hits, and dead
+  // entries would otherwise pile up on the hits of dense regions, making
+  // each offer cost as much as all earlier ones together.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> shared;
   for (ConfIndex h : candidate.hits) {
+    std::erase_if(m_hitTracks[h],
+                  [&](std::uint32_t t) { return !tracks[t].alive; });
     for (std::uint32_t t : m_hitTracks[h]) {
-      if (!tracks[t].alive) {
-        continue;
-      }
       auto it = std::find_if(shared.begin(), shared.end(),
                              [t](const auto& p) { return p.first == t; });
       if (it == shared.end()) {
@@ -60,6 +63,7 @@ bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
   for (std::uint32_t t : conflicts) {
     tracks[t].alive = false;
   }
+  m_dead += conflicts.size();
   auto index = static_cast<std::uint32_t>(tracks.size());
   for (ConfIndex h : candidate.hits) {
     m_hitTracks[h].push_back(index);
@@ -69,6 +73,7 @@ bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
 }
 
 void CloneIndex::rebuild(const std::vector<TrackCandidate>& tracks) {
+  m_dead = 0;
   for (auto& v : m_hitTracks) {
     v.clear();
   }

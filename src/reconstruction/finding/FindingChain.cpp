@@ -104,6 +104,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
       t.getDouble("max_seed_length_mm", s.maxSeedLength, Range::positive());
   s.maxSeedCells = static_cast<std::uint32_t>(
       t.getInt("max_seed_cells", s.maxSeedCells, Range::closed(0, 1e6)));
+  s.maxPaths = static_cast<std::uint32_t>(
+      t.getInt("max_paths", s.maxPaths, Range::closed(0, 1e9)));
   s.minPt = t.getDouble("min_pt_GeV", s.minPt, Range::nonNegative());
   s.maxD0 = t.getDouble("max_d0_mm", s.maxD0, Range::positive());
   s.maxMissedLayers = static_cast<std::uint32_t>(
@@ -138,6 +140,29 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
 
 }  // namespace
 
+void FinderConfig::validate() const {
+  auto atLeast = [](const char* key, double value, double low) {
+    if (!(value >= low)) {
+      throw InputError("finder settings", "key '" + std::string(key) +
+                                              "': must be at least " +
+                                              std::to_string(int(low)));
+    }
+  };
+  atLeast("clone_shared_hits", cloneSharedHits, 1);
+  atLeast("max_paths_per_seed", maxPathsPerSeed, 1);
+  atLeast("max_cells_per_seed", maxCellsPerSeed, 1);
+  atLeast("max_seed_neighbours", maxSeedNeighbours, 1);
+  atLeast("max_cell_neighbours", maxCellNeighbours, 1);
+  atLeast("max_leaves_per_seed", maxLeavesPerSeed, 1);
+  atLeast("max_window_hits", maxWindowHits, 1);
+  atLeast("max_cached_cells", maxCachedCells, 1000);
+  atLeast("extension_lookahead", extensionLookahead, 0);
+  if (!(extensionPhiWindow > 0.0)) {
+    throw InputError("finder settings",
+                     "key 'extension_phi_window': must be positive");
+  }
+}
+
 FinderConfig parseChain(std::string_view text, const std::string& sourceName,
                         const Detector& detector) {
   std::shared_ptr<toml::table> table = ConfigTable::parse(text, sourceName);
@@ -152,6 +177,16 @@ FinderConfig parseChain(std::string_view text, const std::string& sourceName,
         "max_paths_per_seed", cfg.maxPathsPerSeed, Range::closed(1, 1e9)));
     cfg.maxCellsPerSeed = static_cast<std::uint32_t>(f->getInt(
         "max_cells_per_seed", cfg.maxCellsPerSeed, Range::closed(1, 1e9)));
+    cfg.maxSeedNeighbours = static_cast<std::uint32_t>(f->getInt(
+        "max_seed_neighbours", cfg.maxSeedNeighbours, Range::closed(1, 1e9)));
+    cfg.maxCellNeighbours = static_cast<std::uint32_t>(f->getInt(
+        "max_cell_neighbours", cfg.maxCellNeighbours, Range::closed(1, 1e9)));
+    cfg.maxLeavesPerSeed = static_cast<std::uint32_t>(f->getInt(
+        "max_leaves_per_seed", cfg.maxLeavesPerSeed, Range::closed(1, 1e9)));
+    cfg.maxWindowHits = static_cast<std::uint32_t>(
+        f->getInt("max_window_hits", cfg.maxWindowHits, Range::closed(1, 1e9)));
+    cfg.maxCachedCells = static_cast<std::uint32_t>(f->getInt(
+        "max_cached_cells", cfg.maxCachedCells, Range::closed(1000, 1e9)));
     cfg.extensionPhiWindow =
         f->getDouble("extension_phi_window", cfg.extensionPhiWindow,
                      Range{0.0, 3.14159, false, true});
@@ -178,6 +213,7 @@ FinderConfig parseChain(std::string_view text, const std::string& sourceName,
     }
   }
   root.rejectUnknownKeys();
+  cfg.validate();
   return cfg;
 }
 

@@ -108,11 +108,19 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
       }
     }
   }
+  // Compacted in place: a second array of the kept tracks doubled the
+  // memory of the largest events (hundreds of thousands of candidates).
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     if (keep[i] != 0) {
-      result.tracks.push_back(std::move(tracks[i]));
+      if (kept != i) {
+        tracks[kept] = std::move(tracks[i]);
+      }
+      ++kept;
     }
   }
+  tracks.resize(kept);
+  result.tracks = std::move(tracks);
   return result;
 }
 

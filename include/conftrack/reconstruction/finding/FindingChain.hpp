@@ -92,6 +92,12 @@ struct FindingStep {
   /// denser the event, so without a bound the cost per seed grows with the
   /// occupancy.
   std::uint32_t maxSeedCells = 0;
+  /// At most this many paths are enumerated per seed in this step (0: only
+  /// the finder's guard FinderConfig::maxPathsPerSeed); beyond it each
+  /// remaining leaf cell of the seed contributes its straightest path. A
+  /// speed setting where hits come in overlapping pairs (TrackML): not
+  /// counted as a guard.
+  std::uint32_t maxPaths = 0;
   /// Helix steps: minimum pT of a seed triplet's circle [GeV].
   double minPt = 0.0;
   /// Helix steps: maximum transverse distance of closest approach of a
@@ -123,12 +129,46 @@ struct FinderConfig {
   double thetaRange = 0.05;
   /// Candidates sharing at least this many hits are clones.
   std::uint32_t cloneSharedHits = 2;
-  /// Combinatorics guard (upstream TooManyTracks): at most this many
-  /// paths are enumerated per seed; the remaining leaf cells of the seed
-  /// get only their straightest path. Counted per event.
+  // Combinatorics guards (docs/robustness.md). Each bounds one kind of
+  // work that otherwise grows with the hit density, cuts by a deterministic
+  // order (never by time), and is counted per step (StepStats::guards,
+  // Guard). The defaults lie above what the shipped chains need on their
+  // normal events (CLICdet with 30 BX, the real TrackML events), where no
+  // guard bites; they bound the cost per seed, cell and window at ten
+  // times those occupancies.
+
+  /// At most this many paths are enumerated per seed (upstream
+  /// TooManyTracks); the remaining leaf cells of the seed get only their
+  /// straightest path.
   std::uint32_t maxPathsPerSeed = 2000;
-  /// At most this many cells per seed; growth stops there (counted).
-  std::uint32_t maxCellsPerSeed = 20000;
+  /// At most this many cells per seed; growth stops there.
+  std::uint32_t maxCellsPerSeed = 2000;
+  /// At most this many seed cells per seed hit, to its nearest neighbours
+  /// (the order of the seed search). Applies after a step's own
+  /// maxSeedCells (a physics setting, not counted). A fixed seed window
+  /// holds more hits the denser the event.
+  std::uint32_t maxSeedNeighbours = 256;
+  /// At most this many children per cell, those nearest to the virtual
+  /// hit on its prolongation (the order of the search).
+  std::uint32_t maxCellNeighbours = 64;
+  /// At most this many leaf cells (path ends) of one seed's automaton are
+  /// evaluated, the longest first; beyond maxPathsPerSeed each is one
+  /// path and fit, so without a bound a dense seed fits thousands.
+  std::uint32_t maxLeavesPerSeed = 256;
+  /// Extensions and hole filling: at most this many hits of one predicted
+  /// layer crossing (its search window) are examined, those nearest (in
+  /// 3-D) to the predicted crossing point.
+  std::uint32_t maxWindowHits = 256;
+  /// Memory bound of a build step's cell cache (cells and their children
+  /// are computed once per step and shared by all seeds): when it holds
+  /// more cells than this between two seeds, it is emptied and refilled on
+  /// demand (counted: StepStats::cellCacheFlushes). Cells depend on their
+  /// hits and the used flags, which change during a build only where the
+  /// completion of a new track claims hits; cells made again after an
+  /// emptying see those claims, so where the bound acts results can differ
+  /// slightly from an unbounded cache's (never where no hit was claimed).
+  /// About 100 bytes per cell.
+  std::uint32_t maxCachedCells = 1000000;
   /// Half-width of the azimuth window around the predicted crossing on
   /// each layer during extension [rad].
   double extensionPhiWindow = 0.1;
@@ -150,6 +190,10 @@ struct FinderConfig {
   /// track's momentum estimate) in its chi2 increments. A conftrack
   /// addition: upstream's conformal chi2 knows only the hit resolutions.
   bool scatteringAllowance = true;
+
+  /// Throws InputError naming the key of the first bad setting (a guard
+  /// of 0, a clone threshold of 0, a negative window).
+  void validate() const;
 };
 
 /// Reads and validates a chain file against a detector. Throws InputError

@@ -33,9 +33,12 @@ class CloneIndex {
   void rebuild(const std::vector<TrackCandidate>& tracks);
   /// Registers hit `h` as part of track `t` (extensions).
   void addHit(ConfIndex h, std::uint32_t t) { m_hitTracks[h].push_back(t); }
+  /// Tracks killed as clones since the last rebuild (still in `tracks`).
+  std::size_t dead() const { return m_dead; }
 
  private:
   std::vector<std::vector<std::uint32_t>> m_hitTracks;
+  std::size_t m_dead = 0;
 };
 
 /// Everything that changes while one event is processed.

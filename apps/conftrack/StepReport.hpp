@@ -1,0 +1,31 @@
+#pragma once
+
+/// @file StepReport.hpp
+/// The finder's per-step statistics on the command line: a table summed
+/// over events, and a one-line warning for each event in which a
+/// combinatorics guard cut work.
+
+#include "conftrack/reconstruction/finding/StepStats.hpp"
+
+#include <cstdio>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace conftrack::cli {
+
+/// Adds the steps of one event to `total` (matched by name, in order).
+void accumulateSteps(std::vector<StepStats>& total,
+                     std::span<const StepStats> event);
+
+/// Prints one row per step: time per event and the counters (totals over
+/// `events` events), the guards' counts included.
+void printStepTable(std::FILE* out, std::span<const StepStats> steps,
+                    std::size_t events);
+
+/// Logs a warning naming `event` and every guard that bit in it (nothing
+/// if none did).
+void warnIfTruncated(const std::string& event,
+                     std::span<const StepStats> steps);
+
+}  // namespace conftrack::cli
