@@ -17,6 +17,7 @@
 #include "Commands.hpp"
 #include "EventLoop.hpp"
 #include "ReconstructionOptions.hpp"
+#include "StepReport.hpp"
 
 namespace conftrack::cli {
 
@@ -68,6 +69,9 @@ void runBench(const BenchOptions& opt) {
         g.push_back(r.fittingMs + r.selectionMs);
         if (k == 0) {
           tracks += static_cast<double>(r.tracks.size());
+          warnIfTruncated(
+              std::to_string(bx) + " BX, event " + std::to_string(e + 1),
+              r.steps);
         }
       }
       findMs.push_back(median(f));
