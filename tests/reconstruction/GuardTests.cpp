@@ -91,6 +91,7 @@ FinderConfig unlimited(FinderConfig cfg) {
   cfg.maxLeavesPerSeed = big;
   cfg.maxWindowHits = big;
   cfg.maxCachedCells = big;
+  cfg.maxCellsPerHit = big;
   return cfg;
 }
 
@@ -189,6 +190,31 @@ TEST(Guards, BoundTheCellsPerSeedAsTheDensityGrows) {
   EXPECT_LT(cellsPerSeedGuarded[1], 1.5 * cellsPerSeedGuarded[0] + 8.0);
 }
 
+TEST(Guards, StepBudgetSkipsTheLastSeedsAndBoundsTheCells) {
+  // max_cells_per_hit: once a build's automata have held that many cells
+  // per pool hit, the remaining seeds are skipped. The cells may pass the
+  // budget by at most the last seed's automaton (maxCellsPerSeed).
+  const Detector det = test::barrelDetector();
+  const std::vector<Hit> hits = denseJet(det, 100, 500);
+  FinderConfig cfg = denseChain();
+  cfg.steps.resize(1);
+  cfg.finalHoleFilling = false;
+  cfg = unlimited(cfg);
+  const StepStats free = ConformalTrackFinder(det, {cfg}).run(hits).steps[0];
+  EXPECT_EQ(free.guard(Guard::eCellsPerHit).bites, 0u);
+  cfg.maxCellsPerHit = 2;
+  const StepStats capped = ConformalTrackFinder(det, {cfg}).run(hits).steps[0];
+  const GuardCount& budget = capped.guard(Guard::eCellsPerHit);
+  EXPECT_EQ(budget.bites, 1u);  // once per step
+  EXPECT_GT(budget.cut, 0u);
+  EXPECT_LT(capped.seeds, free.seeds);
+  // (The last seed's automaton may pass the budget; this one is small.)
+  EXPECT_LE(capped.cells, 2 * hits.size() + 10000);
+  EXPECT_LT(capped.cells, free.cells);
+  // Every seed is either processed, skipped by the budget or on a track.
+  EXPECT_LE(capped.seeds + budget.cut, hits.size());
+}
+
 TEST(Guards, DefaultsDoNotBiteOnANormalEventAndChangeNothing) {
   const Detector det = test::barrelDetector();
   // Twenty tracks spread over the whole azimuth plus a little noise.
@@ -278,7 +304,7 @@ TEST(Guards, ZeroIsRejected) {
   EXPECT_THROW(cfg.validate(), InputError);
   for (const char* key :
        {"max_seed_neighbours", "max_cell_neighbours", "max_leaves_per_seed",
-        "max_window_hits", "max_cached_cells"}) {
+        "max_window_hits", "max_cached_cells", "max_cells_per_hit"}) {
     const std::string text =
         std::string("[finder]\n") + key + " = 0\n" + minimalStep("Barrel");
     try {
@@ -295,7 +321,7 @@ TEST(Guards, ChainKeysAreRead) {
   const FinderConfig cfg = parseChain(
       "[finder]\nmax_seed_neighbours = 7\nmax_cell_neighbours = 6\n"
       "max_leaves_per_seed = 5\nmax_window_hits = 4\n"
-      "max_cached_cells = 5000\n" +
+      "max_cached_cells = 5000\nmax_cells_per_hit = 3\n" +
           minimalStep("Barrel") + "max_paths = 9\n",
       "dense.toml", det);
   EXPECT_EQ(cfg.maxSeedNeighbours, 7u);
@@ -303,6 +329,7 @@ TEST(Guards, ChainKeysAreRead) {
   EXPECT_EQ(cfg.maxLeavesPerSeed, 5u);
   EXPECT_EQ(cfg.maxWindowHits, 4u);
   EXPECT_EQ(cfg.maxCachedCells, 5000u);
+  EXPECT_EQ(cfg.maxCellsPerHit, 3u);
   EXPECT_EQ(cfg.steps[0].maxPaths, 9u);
   const FinderConfig defaults =
       parseChain(minimalStep("Barrel"), "dense.toml", det);

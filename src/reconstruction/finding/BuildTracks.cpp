@@ -67,9 +67,21 @@ void buildTracks(FinderState& state, const FindingStep& step,
   std::vector<std::uint8_t> onNewTrack(state.hits.size(), 0);
   const std::size_t firstNew = state.tracks.size();
   std::vector<TrackCandidate> candidates;
-  for (ConfIndex seed : seeds) {
+  const double cellBudget =
+      double(state.config.maxCellsPerHit) * double(pool.members().size());
+  for (std::size_t k = 0; k < seeds.size(); ++k) {
+    const ConfIndex seed = seeds[k];
     if (state.used[seed] != 0 || onNewTrack[seed] != 0) {
       continue;
+    }
+    if (double(stats.cells) > cellBudget) {
+      // The step's work budget is spent: the remaining seeds are skipped.
+      std::uint64_t skipped = 0;
+      for (std::size_t j = k; j < seeds.size(); ++j) {
+        skipped += state.used[seeds[j]] == 0 && onNewTrack[seeds[j]] == 0;
+      }
+      stats.guard(Guard::eCellsPerHit).add(skipped);
+      break;
     }
     // Candidates replaced as clones stay in the list until compacted: in a
     // dense event most accepted candidates are replaced later, and keeping

@@ -155,6 +155,7 @@ void FinderConfig::validate() const {
   atLeast("max_cell_neighbours", maxCellNeighbours, 1);
   atLeast("max_leaves_per_seed", maxLeavesPerSeed, 1);
   atLeast("max_window_hits", maxWindowHits, 1);
+  atLeast("max_cells_per_hit", maxCellsPerHit, 1);
   atLeast("max_cached_cells", maxCachedCells, 1000);
   atLeast("extension_lookahead", extensionLookahead, 0);
   if (!(extensionPhiWindow > 0.0)) {
@@ -183,6 +184,8 @@ FinderConfig parseChain(std::string_view text, const std::string& sourceName,
         "max_cell_neighbours", cfg.maxCellNeighbours, Range::closed(1, 1e9)));
     cfg.maxLeavesPerSeed = static_cast<std::uint32_t>(f->getInt(
         "max_leaves_per_seed", cfg.maxLeavesPerSeed, Range::closed(1, 1e9)));
+    cfg.maxCellsPerHit = static_cast<std::uint32_t>(f->getInt(
+        "max_cells_per_hit", cfg.maxCellsPerHit, Range::closed(1, 1e9)));
     cfg.maxWindowHits = static_cast<std::uint32_t>(
         f->getInt("max_window_hits", cfg.maxWindowHits, Range::closed(1, 1e9)));
     cfg.maxCachedCells = static_cast<std::uint32_t>(f->getInt(

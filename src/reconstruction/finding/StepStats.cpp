@@ -15,6 +15,7 @@ constexpr std::array<GuardText, kGuardCount> kGuardTexts{{
     {"max_paths_per_seed", "seeds", "leaves reduced to their straightest path"},
     {"max_leaves_per_seed", "seeds", "leaves"},
     {"max_window_hits", "windows", "hits"},
+    {"max_cells_per_hit", "steps", "seeds"},
 }};
 const GuardText& text(Guard g) {
   return kGuardTexts[static_cast<std::size_t>(g)];

@@ -155,6 +155,15 @@ struct FinderConfig {
   /// evaluated, the longest first; beyond maxPathsPerSeed each is one
   /// path and fit, so without a bound a dense seed fits thousands.
   std::uint32_t maxLeavesPerSeed = 256;
+  /// Work budget of a build step: once the automata of its seeds have held
+  /// more cells than this times the step's hits (StepStats::cells over the
+  /// pool size), the remaining seeds are skipped (counted). Seeds come
+  /// innermost first (outermost first outside-in), so what is lost are the
+  /// tracks that only the later seeds would start. The per-seed guards
+  /// bound the work of one seed; this one bounds their number times that
+  /// work, so that the cost of a build grows no faster than the hits even
+  /// where the combinations per seed grow with the density.
+  std::uint32_t maxCellsPerHit = 100;
   /// Extensions and hole filling: at most this many hits of one predicted
   /// layer crossing (its search window) are examined, those nearest (in
   /// 3-D) to the predicted crossing point.

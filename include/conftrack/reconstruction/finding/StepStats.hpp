@@ -22,8 +22,9 @@ enum class Guard : std::uint8_t {
   ePathsPerSeed,    ///< paths enumerated per seed (max_paths_per_seed)
   eLeavesPerSeed,   ///< path ends evaluated per seed (max_leaves_per_seed)
   eWindowHits,      ///< hits examined per extension window (max_window_hits)
+  eCellsPerHit,     ///< cells of a build step per hit (max_cells_per_hit)
 };
-inline constexpr std::size_t kGuardCount = 6;
+inline constexpr std::size_t kGuardCount = 7;
 
 /// The chain key of a guard ("max_cell_neighbours").
 const char* guardKey(Guard guard);
