@@ -30,6 +30,9 @@
 //   longest (then lowest chi2 per hit) is kept and claims its hits at once;
 //   seed hits are taken innermost first, so the result does not depend on
 //   the input order.
+// - Once the triplets of the step exceed FinderConfig::maxCellsPerHit per
+//   pool hit, the remaining seed hits are skipped (counted): the triplets
+//   of a seed grow with the square of the hit density.
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Helix.hpp"
@@ -231,9 +234,23 @@ class HelixBuilder {
   }
 
   void run() {
-    for (ConfIndex seed : m_pool.members()) {
+    // The step's work budget (FinderConfig::maxCellsPerHit), in triplets:
+    // their number per seed grows with the square of the hit density.
+    const double budget =
+        double(m_state.config.maxCellsPerHit) * double(m_pool.members().size());
+    const std::vector<ConfIndex>& members = m_pool.members();
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const ConfIndex seed = members[k];
       if (m_state.used[seed] != 0 || !seedAllowed(seed)) {
         continue;
+      }
+      if (double(m_stats.cells) > budget) {
+        std::uint64_t skipped = 0;
+        for (std::size_t j = k; j < members.size(); ++j) {
+          skipped += m_state.used[members[j]] == 0 && seedAllowed(members[j]);
+        }
+        m_stats.guard(Guard::eCellsPerHit).add(skipped);
+        break;
       }
       ++m_stats.seeds;
       Path best;
@@ -522,7 +539,7 @@ class HelixBuilder {
         if (dTheta > m_step.maxCellAngleRZ + 3.0 * std::sqrt(var)) {
           continue;
         }
-        ++m_stats.cells;
+        ++m_stats.cells;  // triplets
         Triplet tr;
         tr.path.hits = {h1, h2, h3};
         tr.path.s = {0.0, s12, s12 + s23};
