@@ -1,11 +1,13 @@
 # conftrack: the two commands of the README.
 #   make run   install missing Debian packages, build, run the main job
 #   make test  install missing Debian packages, build, run the test suite
+#   make check-sanitizers  the same under ASan + UBSan (build-asan/), plus
+#              the main job on 5 events and a real TrackML reconstruction
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 RUN_ARGS ?=
 
-.PHONY: run test build deps clean format benchmark
+.PHONY: run test build deps clean format benchmark check-sanitizers
 
 run: build
 	./$(BUILD_DIR)/conftrack run $(RUN_ARGS)
@@ -19,6 +21,9 @@ build: deps
 
 deps:
 	@scripts/install-deps.sh
+
+check-sanitizers: deps
+	scripts/check-sanitizers.sh build-asan
 
 benchmark: build
 	./$(BUILD_DIR)/benchmarks/conftrack_benchmarks
