@@ -44,13 +44,14 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   EXPECT_EQ(c.steps[5].minHits, 5u);
   EXPECT_DOUBLE_EQ(c.steps[5].maxDistance, 0.015);
   EXPECT_EQ(c.steps[5].direction, SearchDirection::eOutsideIn);
-  // conftrack applies the displaced step's chi2 cut to both fits (README).
+  // conftrack applies the displaced step's chi2 cut to both fits
+  // (docs/algorithm.md §3.6).
   EXPECT_TRUE(!c.steps[5].onlySzChi2Cut && !c.steps[5].straightLineFit);
-  // conftrack's seventh step: four-hit displaced tracks (README).
+  // conftrack's seventh step: four-hit displaced tracks (§3.7).
   EXPECT_EQ(c.steps[6].name, "Displaced4");
   EXPECT_EQ(c.steps[6].minHits, 4u);
   EXPECT_EQ(c.steps[6].direction, SearchDirection::eOutsideIn);
-  // ... and its eighth: helix triplets for displaced tracks (README).
+  // ... and its eighth: helix triplets for displaced tracks (§3.8).
   EXPECT_EQ(c.steps[7].name, "DisplacedHelix");
   EXPECT_TRUE(c.steps[7].helix && !c.steps[7].build && !c.steps[7].extend);
   EXPECT_EQ(c.steps[7].minHits, 4u);
