@@ -195,7 +195,11 @@ void runRun(const RunOptions& opt) {
   Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
   const std::vector<ReportSpec> reports = reportsOf(opt);
   for (const ReportSpec& spec : reports) {
-    prepareOutputFolder(std::filesystem::path(opt.output) / spec.folder, "-o");
+    // Not opt.output / "": the trailing "/" hides that a file has the name.
+    prepareOutputFolder(spec.folder.empty()
+                            ? std::filesystem::path(opt.output)
+                            : std::filesystem::path(opt.output) / spec.folder,
+                        "-o");
   }
   for (const ReportSpec& spec : reports) {
     runReport(opt, detector, reco, spec);
