@@ -5,8 +5,10 @@
 
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <sstream>
 #include <system_error>
 #include <unistd.h>
 
@@ -68,6 +70,28 @@ CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
         return "";
       },
       "INT in " + range);
+}
+
+CLI::Validator finiteNumber(double min, double max) {
+  std::ostringstream os;
+  os << "[" << min << ", " << max << "]";
+  std::string range = os.str();
+  return CLI::Validator(
+      [min, max, range](std::string& text) -> std::string {
+        double value = 0.0;
+        const char* begin = text.data();
+        const char* end = text.data() + text.size();
+        auto [ptr, ec] = std::from_chars(begin, end, value);
+        if (text.empty() || ptr != end || ec != std::errc{} ||
+            !std::isfinite(value)) {
+          return "'" + text + "' is not a finite number in " + range;
+        }
+        if (value < min || value > max) {
+          return text + " is out of range " + range;
+        }
+        return "";
+      },
+      "NUMBER in " + range);
 }
 
 CLI::Validator pdgCode() {

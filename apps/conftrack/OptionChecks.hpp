@@ -25,6 +25,9 @@ inline constexpr std::uint64_t kMaxThreads = 1024;
 /// "0x10" are refused with a message saying so).
 CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max);
 
+/// A finite number in [min, max] (CLI11's Range lets NaN through).
+CLI::Validator finiteNumber(double min, double max);
+
 /// A PDG code the fitter has a mass for (massHypothesis).
 CLI::Validator pdgCode();
 

@@ -128,11 +128,12 @@ void addTrackmlCommands(CLI::App& app) {
       ->capture_default_str();
   s->add_option("--noise", sim->noise, "Fraction of noise hits per layer")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.99));
+      ->check(finiteNumber(0.0, 0.99));
   s->add_option("--min-pt", sim->minPt,
                 "Particles below this pT [GeV] are "
                 "not simulated")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finiteNumber(0.0, 1e6));
   s->add_option("--seed", sim->seed, "Run seed")
       ->capture_default_str()
       ->check(wholeNumber(0, UINT64_MAX));

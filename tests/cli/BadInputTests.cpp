@@ -446,6 +446,14 @@ const std::vector<BadInput>& cases() {
        R"(^--first-event 18446744073709551615 with --events 2: the last event number would exceed 18446744073709551615$)"},
       {"OverlayNegative", nothing, "simulate --overlay-bx -1 -n 1 -o {dir}/o",
        R"(^--overlay-bx: '-1' is not a whole number in \[0, 100000\])"},
+      {"NoiseNaN", nothing, "simulate-trackml -i {dir} -o {dir}/o --noise nan",
+       R"(^--noise: 'nan' is not a finite number in \[0, 0\.99\])"},
+      {"MinPtNegative", nothing,
+       "simulate-trackml -i {dir} -o {dir}/o --min-pt -1",
+       R"(^--min-pt: -1 is out of range \[0, 1e\+06\])"},
+      {"GeneratorValue", nothing,
+       "simulate --sample muons --gen p_GeV=-3 -n 1 -o {dir}/o",
+       R"(^--gen options:2: key 'generator\.p_GeV': value -3 out of range \(0, inf\]$)"},
       {"DisplayEventNegative",
        [](const fs::path& d) { writeHits(d, kHeader + kRows); },
        "display -i {dir}/ev --event -3 -o {dir}/d.png",
@@ -513,10 +521,9 @@ TEST(BadInputValid, CrLfLineEndsReadLikeLf) {
   fs::remove_all(lf);
   fs::remove_all(crlf);
   copyBase("ev", lf / "ev");
-  std::string text = slurp(lf / "ev" / kHitsName);
-  for (std::size_t i = 0; (i = text.find('\n', i)) != std::string::npos;
-       i += 2) {
-    text.insert(i, "\r");
+  std::string text;
+  for (char c : slurp(lf / "ev" / kHitsName)) {
+    text += c == '\n' ? std::string("\r\n") : std::string(1, c);
   }
   writeHits(crlf, text);
   const std::string a = reconstructTracks(lf);
