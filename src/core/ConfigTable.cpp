@@ -76,19 +76,30 @@ const toml::node& ConfigTable::require(std::string_view key) const {
   return *n;
 }
 
-void ConfigTable::checkRange(std::string_view key, double value,
-                             const Range& range) const {
-  if (!std::isfinite(value)) {
-    fail(key, "must be finite");
+std::string rangeViolation(double value, const Range& range) {
+  if (std::isnan(value)) {
+    return "must not be NaN";
   }
   bool lowOk = range.minInclusive ? value >= range.min : value > range.min;
   bool highOk = range.maxInclusive ? value <= range.max : value < range.max;
-  if (!lowOk || !highOk) {
-    std::ostringstream os;
-    os << "value " << value << " out of range ";
-    os << (range.minInclusive ? '[' : '(') << range.min << ", " << range.max
-       << (range.maxInclusive ? ']' : ')');
-    fail(key, os.str());
+  if (lowOk && highOk) {
+    return "";
+  }
+  std::ostringstream os;
+  os << "value " << value << " out of range ";
+  os << (range.minInclusive ? '[' : '(') << range.min << ", " << range.max
+     << (range.maxInclusive ? ']' : ')');
+  return os.str();
+}
+
+void ConfigTable::checkRange(std::string_view key, double value,
+                             const Range& range) const {
+  // A file value is always finite: "inf" and "nan" in TOML are typos.
+  if (!std::isfinite(value)) {
+    fail(key, "must be finite");
+  }
+  if (std::string problem = rangeViolation(value, range); !problem.empty()) {
+    fail(key, problem);
   }
 }
 

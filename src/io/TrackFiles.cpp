@@ -232,7 +232,18 @@ std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
       }
       t.findingStep = csv.getInteger<std::uint16_t>(col[cRest + 4]);
       t.ptEstimate = csv.getDouble(col[cRest + 5]) * units::GeV;
+      if (t.ptEstimate < 0.0) {
+        csv.failField(col[cRest + 5], "is negative");
+      }
       t.fitted = flag(csv, col[cRest + 6]);
+      // Unfitted tracks carry zeros; a fitted one in a magnetic field is
+      // curved. Omega = 0 would be a straight track of infinite pT, which
+      // the evaluation cannot place in any pT bin.
+      if (t.fitted && a[eOmega] == 0.0) {
+        csv.failField(col[3],
+                      "is 0 on a fitted track (a straight track, infinite "
+                      "pT: not a fit in a magnetic field)");
+      }
       t.hits.reserve(d.hits);
       t.outlier.reserve(d.hits);
     }

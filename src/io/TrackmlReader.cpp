@@ -9,6 +9,9 @@
 #include "conftrack/io/TrackmlIds.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -95,6 +98,59 @@ class HitIdMap {
   std::unordered_map<std::uint64_t, HitIndex> m_map;
 };
 
+/// Hits closer to the beam line than this are refused: no tracking layer is
+/// there, and the conformal mapping u = x / (x^2 + y^2) would overflow.
+constexpr double kMinHitRadius = 1.0 * units::um;
+
+/// How far a hit may lie from the nominal surface of the layer it claims
+/// (normal to it and beyond its edges). Real modules are staggered and
+/// tilted around the nominal layer: the real TrackML hits lie up to 6.1 mm
+/// from the layers of detectors/trackml.toml. 20 mm admits that with a
+/// margin and still refuses a hit that names the wrong layer or none.
+constexpr double kLayerTolerance = 20.0 * units::mm;
+
+std::string millimetres(double value) {
+  std::ostringstream os;
+  os << std::setprecision(6) << value / units::mm << " mm";
+  return os.str();
+}
+
+/// Refuses a hit that lies outside the tracker or away from the layer its
+/// (volume_id, layer_id) names: such a file is corrupt or belongs to
+/// another detector, and reconstruction would silently produce nonsense.
+void checkOnLayer(const CsvReader& csv, const Hit& hit,
+                  const SensitiveLayer& layer, const Detector& detector) {
+  // hypot: x^2 + y^2 overflows for the 1e308 of a corrupt file.
+  const double r = std::hypot(hit.position.x(), hit.position.y());
+  const double z = hit.position.z();
+  const std::string at = "hit_id " + std::to_string(hit.id) +
+                         " at r = " + millimetres(r) +
+                         ", z = " + millimetres(z);
+  if (!(r <= detector.envelopeR() && std::abs(z) <= detector.envelopeZ())) {
+    csv.fail(at + " lies outside the tracker of detector '" + detector.name() +
+             "' (r <= " + millimetres(detector.envelopeR()) +
+             ", |z| <= " + millimetres(detector.envelopeZ()) + ")");
+  }
+  bool on = false;
+  std::string surface;
+  if (layer.isDisk()) {
+    on = std::abs(z - layer.z()) <= kLayerTolerance &&
+         r >= layer.rMin - kLayerTolerance && r <= layer.rMax + kLayerTolerance;
+    surface = "z = " + millimetres(layer.z()) + ", " + millimetres(layer.rMin) +
+              " <= r <= " + millimetres(layer.rMax);
+  } else {
+    on = std::abs(r - layer.r) <= kLayerTolerance &&
+         z >= layer.zMin - kLayerTolerance && z <= layer.zMax + kLayerTolerance;
+    surface =
+        "r = " + millimetres(layer.r) + ", |z| <= " + millimetres(layer.zMax);
+  }
+  if (!on) {
+    csv.fail(at + " is not on the layer its volume_id/layer_id name (" +
+             layer.name + ": " + surface + ", tolerance " +
+             millimetres(kLayerTolerance) + ")");
+  }
+}
+
 double nonNegative(const CsvReader& csv, std::size_t column) {
   double value = csv.getDouble(column);
   if (value < 0.0) {
@@ -141,10 +197,10 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
       csv.fail("duplicate hit_id " + std::to_string(hit.id));
     }
     hit.position = cPos.read(csv, units::mm);
-    if (hit.position.x() == 0.0 && hit.position.y() == 0.0) {
+    if (!(std::hypot(hit.position.x(), hit.position.y()) >= kMinHitRadius)) {
       csv.fail("hit_id " + std::to_string(hit.id) +
-               " lies on the z axis (x = y = 0): conformal coordinates are "
-               "undefined");
+               " lies on the beam line (sqrt(x^2 + y^2) < 1 um): no tracking "
+               "layer is there and conformal coordinates are undefined");
     }
     TrackmlId tid{csv.getInteger<std::uint32_t>(cVolume),
                   csv.getInteger<std::uint32_t>(cLayer),
@@ -163,6 +219,7 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
                          std::to_string(layer->nPhiModules * layer->nZModules) +
                          " modules of layer " + layer->name);
       }
+      checkOnLayer(csv, hit, *layer, *detector);
       hit.detId = layer->id;
       hit.detId.module = tid.module;
       layer->localAxes(hit.position, hit.uAxis, hit.vAxis);
@@ -216,7 +273,7 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
     t.particleId = csv.getInteger<std::uint64_t>(cParticle);
     t.position = cPos.read(csv, units::mm);
     t.momentum = cMom.read(csv, units::GeV);
-    t.weight = cWeight ? csv.getDouble(*cWeight) : 0.0;
+    t.weight = cWeight ? nonNegative(csv, *cWeight) : 0.0;
     t.time = cTime ? csv.getDouble(*cTime) * units::ns : 0.0;
   }
   auto missing = std::find(filled.begin(), filled.end(), 0);

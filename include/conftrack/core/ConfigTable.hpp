@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -27,7 +28,15 @@ struct Range {
   static Range positive() { return {0.0, Range{}.max, false, true}; }
   static Range nonNegative() { return {0.0, Range{}.max, true, true}; }
   static Range closed(double lo, double hi) { return {lo, hi, true, true}; }
+  /// (0, inf): positive and finite.
+  static Range positiveFinite() { return {0.0, Range{}.max, false, false}; }
 };
+
+/// Empty if `value` lies in `range` (an infinite bound that is inclusive
+/// admits infinity), else the problem: "must not be NaN" or "value -1 out
+/// of range (0, inf]". Shared by ConfigTable and the validation of
+/// configurations built in code, so that both say the same.
+std::string rangeViolation(double value, const Range& range);
 
 /// A view on one TOML table that remembers which keys were read.
 class ConfigTable {

@@ -102,7 +102,8 @@ void writeTracks(const std::filesystem::path& dir, std::uint64_t eventNumber,
 /// chi2, ndf, findingStep, ptEstimate and fitted filled.
 ///
 /// Errors: missing columns, bad numbers, duplicate track ids, n_outliers >
-/// n_hits, flags other than 0/1, negative variances; track-hits rows for
+/// n_hits, flags other than 0/1, negative variances, a negative
+/// pt_estimate, omega = 0 on a fitted track; track-hits rows for
 /// unknown track ids or hit ids not in `hits`, a hit twice on one track;
 /// a track whose n_hits or n_outliers disagree with its track-hits rows.
 std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,

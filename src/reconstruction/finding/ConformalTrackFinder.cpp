@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <stdexcept>
 
 namespace conftrack {
 
@@ -40,7 +41,15 @@ Track toTrack(const FoundTrack& found) {
 
 ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
                                            Config config)
-    : m_detector(&detector), m_config(std::move(config)) {}
+    : m_detector(&detector), m_config(std::move(config)) {
+  // A chain built in code is checked like one read from a file (whose
+  // reader has already turned the same problem into an InputError).
+  if (std::optional<ChainProblem> p =
+          findChainProblem(m_config.chain, detector)) {
+    throw std::invalid_argument("ConformalTrackFinder: invalid chain: " +
+                                p->describe());
+  }
+}
 
 namespace {
 using Clock = std::chrono::steady_clock;
