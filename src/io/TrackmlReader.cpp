@@ -5,6 +5,7 @@
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 
@@ -161,10 +162,10 @@ double nonNegative(const CsvReader& csv, std::size_t column) {
 
 }  // namespace
 
-std::vector<Hit> readHits(const std::filesystem::path& file,
-                          const Detector* detector) {
+std::vector<Hit> parseHits(std::string text, const std::string& source,
+                           const Detector* detector) {
   namespace c = trackml::hits;
-  CsvReader csv = CsvReader::open(file);
+  CsvReader csv(std::move(text), source);
   const std::size_t cId = csv.requireColumn(c::kHitId);
   const auto cPos = VectorColumns::require(csv, c::kX, c::kY, c::kZ);
   const std::size_t cVolume = csv.requireColumn(c::kVolumeId);
@@ -244,10 +245,10 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
   return hits;
 }
 
-std::vector<HitTruth> readTruth(const std::filesystem::path& file,
-                                const std::vector<Hit>& hits) {
+std::vector<HitTruth> parseTruth(std::string text, const std::string& source,
+                                 const std::vector<Hit>& hits) {
   namespace c = trackml::truth;
-  CsvReader csv = CsvReader::open(file);
+  CsvReader csv(std::move(text), source);
   const std::size_t cHitId = csv.requireColumn(c::kHitId);
   const std::size_t cParticle = csv.requireColumn(c::kParticleId);
   const auto cPos = VectorColumns::require(csv, c::kTx, c::kTy, c::kTz);
@@ -289,9 +290,10 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
   return truth;
 }
 
-std::vector<Particle> readParticles(const std::filesystem::path& file) {
+std::vector<Particle> parseParticles(std::string text,
+                                     const std::string& source) {
   namespace c = trackml::particles;
-  CsvReader csv = CsvReader::open(file);
+  CsvReader csv(std::move(text), source);
   const std::size_t cId = csv.requireColumn(c::kParticleId);
   const auto cVertex = VectorColumns::require(csv, c::kVx, c::kVy, c::kVz);
   const auto cMom = VectorColumns::require(csv, c::kPx, c::kPy, c::kPz);
@@ -337,6 +339,20 @@ std::vector<Particle> readParticles(const std::filesystem::path& file) {
   std::sort(particles.begin(), particles.end(),
             [](const Particle& a, const Particle& b) { return a.id < b.id; });
   return particles;
+}
+
+std::vector<Hit> readHits(const std::filesystem::path& file,
+                          const Detector* detector) {
+  return parseHits(readTextFile(file), file.string(), detector);
+}
+
+std::vector<HitTruth> readTruth(const std::filesystem::path& file,
+                                const std::vector<Hit>& hits) {
+  return parseTruth(readTextFile(file), file.string(), hits);
+}
+
+std::vector<Particle> readParticles(const std::filesystem::path& file) {
+  return parseParticles(readTextFile(file), file.string());
 }
 
 Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,

@@ -41,7 +41,10 @@ std::string rangeViolation(double value, const Range& range);
 /// A view on one TOML table that remembers which keys were read.
 class ConfigTable {
  public:
-  /// Parses TOML text; throws InputError "file:line: ..." on syntax errors.
+  /// Parses TOML text; throws InputError "file:line: ..." on syntax errors,
+  /// on any non-ASCII byte or control character, and on a table header
+  /// without a key after its '[' (refused before toml++ sees them: Debian's
+  /// toml++ 3.3.0 has undefined behaviour on some of them).
   static std::shared_ptr<toml::table> parse(std::string_view text,
                                             const std::string& file);
 

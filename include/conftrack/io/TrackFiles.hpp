@@ -110,6 +110,14 @@ std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
                                   const std::filesystem::path& trackHitsFile,
                                   std::span<const Hit> hits);
 
+/// readTrackFiles on the two files' texts already in memory (plain, see
+/// decompressIfGzip); the sources name them in error messages.
+std::vector<Track> parseTrackFiles(std::string tracksText,
+                                   const std::string& tracksSource,
+                                   std::string trackHitsText,
+                                   const std::string& trackHitsSource,
+                                   std::span<const Hit> hits);
+
 /// Reads the track files of event `eventNumber` from `dir` (plain or .gz;
 /// both present or none is an error).
 std::vector<Track> readTracks(const std::filesystem::path& dir,

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace conftrack {
@@ -59,6 +60,15 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
 /// without particle_type; returns the particles sorted by id. Particle id 0
 /// (reserved for noise) and duplicate ids are errors.
 std::vector<Particle> readParticles(const std::filesystem::path& file);
+
+/// readHits, readTruth and readParticles on text already in memory (plain,
+/// see decompressIfGzip); `source` names it in error messages.
+std::vector<Hit> parseHits(std::string text, const std::string& source,
+                           const Detector* detector);
+std::vector<HitTruth> parseTruth(std::string text, const std::string& source,
+                                 const std::vector<Hit>& hits);
+std::vector<Particle> parseParticles(std::string text,
+                                     const std::string& source);
 
 /// Reads event `eventNumber` from `dir`: the hits file (required) and, if
 /// they exist and `options` asks for them, the truth and particles files.
