@@ -20,20 +20,23 @@ std::string where(std::string_view option, const std::filesystem::path& p) {
   return std::string(option) + " " + p.string();
 }
 
-/// prepareOutputFolder, with messages located at `at` ("-o X").
-void makeWritableFolder(const std::filesystem::path& dir,
-                        const std::string& at) {
+/// prepareOutputFolder, with messages located at `at` ("-o X"); `named`:
+/// `at` names `dir` itself (not a file in it), so the folder's name is not
+/// repeated.
+void makeWritableFolder(const std::filesystem::path& dir, const std::string& at,
+                        bool named) {
+  const std::string folder =
+      named ? "the folder" : "the folder '" + dir.string() + "'";
   std::error_code ec;
   if (std::filesystem::exists(dir, ec) &&
       !std::filesystem::is_directory(dir, ec)) {
-    throw InputError(at, "'" + dir.string() +
-                             "' exists and is not a folder (the output goes "
-                             "into a folder)");
+    throw InputError(at, (named ? std::string("is a file")
+                                : "'" + dir.string() + "' is a file") +
+                             ", not a folder");
   }
   std::filesystem::create_directories(dir, ec);
   if (ec) {
-    throw InputError(
-        at, "cannot create the folder '" + dir.string() + "': " + ec.message());
+    throw InputError(at, "cannot create " + folder + ": " + ec.message());
   }
   // Permissions say little (root, read-only mounts, ACLs): try it.
   std::filesystem::path probe =
@@ -41,8 +44,8 @@ void makeWritableFolder(const std::filesystem::path& dir,
   std::FILE* f = std::fopen(probe.c_str(), "wb");
   if (f == nullptr) {
     const int err = errno;
-    throw InputError(at, "cannot write into the folder '" + dir.string() +
-                             "': " + std::strerror(err));
+    throw InputError(at,
+                     "cannot write into " + folder + ": " + std::strerror(err));
   }
   std::fclose(f);
   std::filesystem::remove(probe, ec);
@@ -115,7 +118,7 @@ void prepareOutputFolder(const std::filesystem::path& dir,
   if (dir.empty()) {
     throw InputError(std::string(option) + ": empty folder name");
   }
-  makeWritableFolder(dir, where(option, dir));
+  makeWritableFolder(dir, where(option, dir), true);
 }
 
 void prepareOutputFile(const std::filesystem::path& file,
@@ -129,7 +132,7 @@ void prepareOutputFile(const std::filesystem::path& file,
   }
   std::filesystem::path dir = file.parent_path();
   makeWritableFolder(dir.empty() ? std::filesystem::path(".") : dir,
-                     where(option, file));
+                     where(option, file), false);
 }
 
 }  // namespace conftrack::cli

@@ -18,118 +18,11 @@
 #include <unistd.h>
 #include <vector>
 
+#include "BadInputFixtures.hpp"
+
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Outcome {
-  int code;
-  std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void writeFile(const fs::path& p, const std::string& bytes) {
-  fs::create_directories(p.parent_path());
-  std::ofstream out(p, std::ios::binary);
-  out << bytes;
-}
-
-/// A folder of this process (ctest runs the cases in parallel processes).
-fs::path processDir() {
-  return fs::path(::testing::TempDir()) /
-         ("conftrack-badinput-" + std::to_string(::getpid()));
-}
-
-/// Runs `conftrack -q args` (-q: no progress or info lines); returns the
-/// exit code and stderr.
-Outcome conftrack(const std::string& args) {
-  fs::create_directories(processDir());
-  const fs::path err = processDir() / "stderr.txt";
-  const std::string cmd = std::string(CONFTRACK_BINARY) + " -q " + args +
-                          " > /dev/null 2> " + err.string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(err)};
-}
-
-/// A valid sample made once per process: one CLICdet muon event with truth
-/// ("ev"), its tracks ("tracks") and TrackML submission ("submission").
-const fs::path& base() {
-  static const fs::path dir = [] {
-    const fs::path d = processDir() / "base";
-    fs::remove_all(d);
-    const std::string ev = (d / "ev").string();
-    EXPECT_EQ(conftrack("simulate --sample muons -n 1 --seed 4 -o " + ev).code,
-              0);
-    EXPECT_EQ(
-        conftrack("reconstruct -i " + ev + " -o " + (d / "tracks").string())
-            .code,
-        0);
-    EXPECT_EQ(conftrack("reconstruct --submission -i " + ev + " -o " +
-                        (d / "submission").string())
-                  .code,
-              0);
-    return d;
-  }();
-  return dir;
-}
-
-/// Copies a folder of the base sample into `to`.
-void copyBase(const std::string& what, const fs::path& to) {
-  fs::create_directories(to.parent_path());
-  fs::copy(base() / what, to, fs::copy_options::recursive);
-}
-
-/// Replaces column `column` of data row `row` (1 = first data row) of a CSV
-/// file.
-void setField(const fs::path& file, std::size_t row, const std::string& column,
-              const std::string& value) {
-  std::vector<std::string> lines;
-  std::stringstream in(slurp(file));
-  for (std::string line; std::getline(in, line);) {
-    lines.push_back(line);
-  }
-  auto split = [](const std::string& line) {
-    std::vector<std::string> f;
-    std::stringstream s(line);
-    for (std::string x; std::getline(s, x, ',');) {
-      f.push_back(x);
-    }
-    return f;
-  };
-  const std::vector<std::string> header = split(lines.at(0));
-  const auto c = static_cast<std::size_t>(
-      std::find(header.begin(), header.end(), column) - header.begin());
-  ASSERT_LT(c, header.size()) << column;
-  std::vector<std::string> fields = split(lines.at(row));
-  fields.at(c) = value;
-  std::string joined;
-  for (const std::string& f : fields) {
-    joined += (joined.empty() ? "" : ",") + f;
-  }
-  lines[row] = joined;
-  std::string out;
-  for (const std::string& l : lines) {
-    out += l + "\n";
-  }
-  writeFile(file, out);
-}
-
-const std::string kHeader = "hit_id,x,y,z,volume_id,layer_id,module_id\n";
-/// Two CLICdet hits on vertex-barrel layers 0 and 1 (TrackML volume 1,
-/// layers 2 and 4).
-const std::string kRows = "1,31.165,0,10,1,2,0\n2,33.215,0.5,10.5,1,4,0\n";
-const std::string kHitsName = "event000000001-hits.csv";
-
-/// Writes the hits file of event 1 into dir/ev.
-void writeHits(const fs::path& dir, const std::string& text) {
-  writeFile(dir / "ev" / kHitsName, text);
-}
+using namespace clitest;
 
 /// A hits file whose first data row is `row`.
 std::function<void(const fs::path&)> hitsRow(const std::string& row) {
@@ -343,16 +236,16 @@ const std::vector<BadInput>& cases() {
          fileNamedOut(d);
        },
        "reconstruct -i {dir}/ev -o {dir}/out",
-       R"(^-o \S+/out: '\S+/out' exists and is not a folder \(the output goes into a folder\)$)"},
+       R"(^-o \S+/out: is a file, not a folder$)"},
       {"OutputFolderUnderAFileSimulate", fileNamedOut,
        "simulate --sample muons -n 1 -o {dir}/out/events",
-       R"(^-o \S+/out/events: cannot create the folder '\S+/out/events': Not a directory$)"},
+       R"(^-o \S+/out/events: cannot create the folder: Not a directory$)"},
       {"OutputFolderCannotBeCreatedRun", nothing,
        "run --sample muons -n 1 --no-plots -o /proc/conftrack-no-such/run",
-       R"(^-o /proc/conftrack-no-such/run: cannot create the folder '/proc/conftrack-no-such/run': No such file or directory$)"},
+       R"(^-o /proc/conftrack-no-such/run: cannot create the folder: No such file or directory$)"},
       {"OutputFolderIsAFileRun", fileNamedOut,
        "run --sample muons -n 1 --no-plots -o {dir}/out",
-       R"(^-o \S+/out: '\S+/out' exists and is not a folder)"},
+       R"(^-o \S+/out: is a file, not a folder$)"},
       {"OutputFolderIsAFileEvaluate",
        [](const fs::path& d) {
          copyBase("ev", d / "ev");
@@ -360,18 +253,18 @@ const std::vector<BadInput>& cases() {
          fileNamedOut(d);
        },
        "evaluate -i {dir}/ev -t {dir}/tracks -o {dir}/out --no-plots",
-       R"(^-o \S+/out: '\S+/out' exists and is not a folder)"},
+       R"(^-o \S+/out: is a file, not a folder$)"},
       {"OutputFolderIsAFileSimulateTrackml", fileNamedOut,
        "simulate-trackml -i " CONFTRACK_TEST_DATA_DIR
        "/trackml/train_100_events_no_truth -o {dir}/out",
-       R"(^-o \S+/out: '\S+/out' exists and is not a folder)"},
+       R"(^-o \S+/out: is a file, not a folder$)"},
       {"OutputFileInAFileDisplay",
        [](const fs::path& d) {
          writeHits(d, kHeader + kRows);
          fileNamedOut(d);
        },
        "display -i {dir}/ev -o {dir}/out/display.png",
-       R"(^-o \S+/out/display\.png: '\S+/out' exists and is not a folder)"},
+       R"(^-o \S+/out/display\.png: '\S+/out' is a file, not a folder$)"},
       {"OutputFileIsAFolderDisplay",
        [](const fs::path& d) { writeHits(d, kHeader + kRows); },
        "display -i {dir}/ev -o {dir}/ev",
@@ -484,7 +377,7 @@ TEST_P(BadInputTest, OneLineAndExitCodeOne) {
   for (std::size_t p; (p = args.find("{dir}")) != std::string::npos;) {
     args.replace(p, 5, dir.string());
   }
-  const Outcome r = conftrack(args);
+  const Outcome r = runConftrack(args);
   EXPECT_EQ(r.code, 1) << r.err;
   // Exactly one line, ending in a newline.
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -494,6 +387,8 @@ TEST_P(BadInputTest, OneLineAndExitCodeOne) {
   ASSERT_EQ(r.err.rfind(prefix, 0), 0u) << r.err;
   const std::string message =
       r.err.substr(prefix.size(), r.err.size() - prefix.size() - 1);
+  // In --gtest_output=xml reports: the messages quoted in bad-input.md.
+  RecordProperty("message", message);
   EXPECT_TRUE(std::regex_search(message, std::regex(c.message)))
       << "message: " << message << "\nexpected: " << c.message;
   fs::remove_all(dir);
@@ -503,73 +398,5 @@ INSTANTIATE_TEST_SUITE_P(Classes, BadInputTest, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<BadInput>& info) {
                            return info.param.name;
                          });
-
-// ------------------------------------------------------ valid variants
-
-/// Reconstructs dir/ev and returns the tracks file text ("" on failure).
-std::string reconstructTracks(const fs::path& dir) {
-  const Outcome r = conftrack("reconstruct -i " + (dir / "ev").string() +
-                              " -o " + (dir / "tracks").string());
-  EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.err, "");
-  return slurp(dir / "tracks" / "event000000001-tracks.csv");
-}
-
-TEST(BadInputValid, CrLfLineEndsReadLikeLf) {
-  const fs::path lf = processDir() / "lf";
-  const fs::path crlf = processDir() / "crlf";
-  fs::remove_all(lf);
-  fs::remove_all(crlf);
-  copyBase("ev", lf / "ev");
-  std::string text;
-  for (char c : slurp(lf / "ev" / kHitsName)) {
-    text += c == '\n' ? std::string("\r\n") : std::string(1, c);
-  }
-  writeHits(crlf, text);
-  const std::string a = reconstructTracks(lf);
-  EXPECT_NE(a.find('\n'), a.rfind('\n')) << "no tracks: " << a;
-  EXPECT_EQ(a, reconstructTracks(crlf));
-  fs::remove_all(lf);
-  fs::remove_all(crlf);
-}
-
-TEST(BadInputValid, HeaderOnlyHitsFileIsAnEmptyEvent) {
-  const fs::path dir = processDir() / "header-only";
-  fs::remove_all(dir);
-  writeHits(dir, kHeader);
-  const std::string tracks = reconstructTracks(dir);
-  // The header line and no track.
-  EXPECT_EQ(std::count(tracks.begin(), tracks.end(), '\n'), 1) << tracks;
-  fs::remove_all(dir);
-}
-
-TEST(BadInputValid, ThreadsBeyondTheCoresRunQuietly) {
-  const fs::path dir = processDir() / "threads";
-  fs::remove_all(dir);
-  copyBase("ev", dir / "ev");
-  const Outcome r = conftrack("reconstruct -j 8 -i " + (dir / "ev").string() +
-                              " -o " + (dir / "tracks").string());
-  EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.err, "");  // no TBB warning about the worker limit
-  fs::remove_all(dir);
-}
-
-TEST(BadInputValid, UnwritableOutputFolder) {
-  if (::geteuid() == 0) {
-    GTEST_SKIP() << "root writes into read-only folders";
-  }
-  const fs::path dir = processDir() / "readonly";
-  fs::remove_all(dir);
-  fs::create_directories(dir / "out");
-  writeHits(dir, kHeader + kRows);
-  fs::permissions(dir / "out", fs::perms::owner_read | fs::perms::owner_exec);
-  const Outcome r = conftrack("reconstruct -i " + (dir / "ev").string() +
-                              " -o " + (dir / "out").string());
-  fs::permissions(dir / "out", fs::perms::owner_all);
-  EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("cannot write into the folder"), std::string::npos)
-      << r.err;
-  fs::remove_all(dir);
-}
 
 }  // namespace
