@@ -576,11 +576,28 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
           }
         }
         break;
-      case 'A':
+      case 'A': {
         if (t.size() < 3 || (ev && !toInt(t[1]))) {
           c.fail(line.number, "bad attribute line");
         }
+        // The reader copies the attribute name into a char[64] with
+        // sprintf: a longer name overflows its stack (found by fuzzing,
+        // docs/fuzzing.md). Its fields end at the next ' ': the name
+        // follows the first space of a run attribute ("A name value"), the
+        // second one in an event ("A id name value").
+        std::size_t nameBegin = s.find(' ', 1);
+        if (ev && nameBegin != std::string_view::npos) {
+          nameBegin = s.find(' ', nameBegin + 1);
+        }
+        if (nameBegin != std::string_view::npos) {
+          const std::size_t nameEnd = s.find(' ', nameBegin + 1);
+          if (nameEnd != std::string_view::npos &&
+              nameEnd - nameBegin - 1 >= 64) {
+            c.fail(line.number, "attribute name longer than 63 characters");
+          }
+        }
         break;
+      }
       case 'T':
         if (ev) {
           c.fail(line.number, "tool line inside an event");
