@@ -1,7 +1,8 @@
-/// @file HepMCAttributeTests.cpp
-/// Attribute lines whose name overflows the fixed buffer of the HepMC3
-/// 3.1.2 reader (a stack overflow found by fuzzing, docs/fuzzing.md) are
-/// refused by the validator with their line.
+/// @file HepMCReaderCrashTests.cpp
+/// Input that crashes the HepMC3 3.1.2 reader, found by fuzzing
+/// (docs/fuzzing.md), is refused by the validator with its line: attribute
+/// names that overflow the reader's fixed buffer, and fields ending with an
+/// escaping backslash (the reader's unescape() runs past the string's end).
 
 #include "conftrack/core/Error.hpp"
 #include "conftrack/simulation/generators/HepMC3Generator.hpp"
@@ -47,6 +48,24 @@ TEST(HepMCAttributes, LongerNamesAreRefusedWithTheirLine) {
   EXPECT_EQ(
       errorOf(kHead + kEvent + "A 0 " + std::string(100, 'e') + " 2\n" + kTail),
       "a.hepmc:11: attribute name longer than 63 characters");
+}
+
+TEST(HepMCEscapes, FieldEndingWithBackslashIsRefused) {
+  const std::string expected =
+      "a field ends with an escaping backslash (crashes the HepMC3 3.1.2 "
+      "reader)";
+  EXPECT_EQ(errorOf("HepMC::Version 3.02.01\nHepMC::Asciiv3-START_EVENT_"
+                    "LISTING\nW Weight\\\n" +
+                    kEvent + kTail),
+            "a.hepmc:3: " + expected);
+  EXPECT_EQ(errorOf(kHead + "T Pythia8 8.3 a\\\\\\\t\n" + kEvent + kTail),
+            "a.hepmc:4: " + expected);
+  EXPECT_EQ(errorOf(kHead + kEvent + "A 0 note x\\ y\n" + kTail),
+            "a.hepmc:11: " + expected);
+  // An escaped backslash is a field's last character legitimately.
+  EXPECT_EQ(errorOf(kHead + "T Pythia8 8.3 a\\\\\n" + kEvent +
+                    "A 0 note x\\\\ y\\|z\n" + kTail),
+            "(accepted)");
 }
 
 }  // namespace
