@@ -40,7 +40,6 @@ constexpr std::uint8_t kUnreachable = 2;  ///< its surface was not reached
 /// A point closer than this to a surface is on it [mm].
 constexpr double kOnSurface = 1e-9 * units::mm;
 
-
 /// Crossing of the surface extended to infinity (cylinder in z, disk in
 /// r): a hit is on its layer even where the predicted track just misses
 /// the layer's edge.
@@ -180,8 +179,8 @@ double requireMass(std::int32_t pdg) {
   std::optional<double> mass = massHypothesis(pdg);
   if (!mass) {
     throw std::invalid_argument("KalmanFitter: unknown PDG code " +
-                                std::to_string(pdg) + " (known: " +
-                                knownMassHypotheses() + ")");
+                                std::to_string(pdg) +
+                                " (known: " + knownMassHypotheses() + ")");
   }
   return *mass;
 }
