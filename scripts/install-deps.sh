@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages conftrack needs, only those missing.
-# Called by `make run` and `make test`; safe to run by hand.
+# Called by `make run` and `make test`; safe to run by hand. With --fuzz it
+# also installs the compiler of the fuzzing build (`make fuzz`, clang's
+# libFuzzer and sanitizer runtimes), which the rest does not need.
 set -euo pipefail
 
 packages=(
@@ -10,6 +12,10 @@ packages=(
   zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy
 )
+fuzz_packages=(clang-14 libclang-rt-14-dev)
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=("${fuzz_packages[@]}")
+fi
 
 missing=()
 for p in "${packages[@]}"; do

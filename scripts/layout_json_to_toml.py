@@ -35,7 +35,7 @@ def main(path, short):
     w(f"# Generated from {src} by scripts/layout_json_to_toml.py; values from")
     w("# detectors.md. Units are in the key names (_mm, _um, _T); x_over_x0 is the")
     w("# material at normal incidence as a fraction of X0 (module + support).")
-    w("# Approximations (README 'Detector files'): barrel layers are cylinders at")
+    w("# Approximations (docs/algorithm.md, 'Detector model'): barrel layers are cylinders at")
     w("# the sensor mid-plane radius (flat staves, staggered modules and module")
     w("# overlaps ignored); disks are flat at their nominal z (the CLICdet")
     w("# vertex-endcap spiral petals at the mean petal z); module ids use equal")

@@ -16,6 +16,7 @@
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
+#include "OptionChecks.hpp"
 #include "ReconstructionOptions.hpp"
 #include "StepReport.hpp"
 
@@ -97,13 +98,14 @@ void addBenchCommand(CLI::App& app) {
   addReconstructionOptions(*cmd, opt->reco);
   cmd->add_option("--overlays", opt->overlays,
                   "Numbers of overlaid bunch crossings")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wholeNumber(0, 100000));
   cmd->add_option("-n,--events", opt->events, "Events per setting")
       ->capture_default_str()
-      ->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
+      ->check(wholeNumber(1, 100000));
   cmd->add_option("--repeat", opt->repeat, "Reconstructions per event")
       ->capture_default_str()
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
+      ->check(wholeNumber(1, 1000));
   cmd->callback([opt]() { runBench(*opt); });
 }
 

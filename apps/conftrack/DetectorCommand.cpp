@@ -9,6 +9,7 @@
 #include <string>
 
 #include "Commands.hpp"
+#include "OptionChecks.hpp"
 
 namespace conftrack::cli {
 
@@ -98,25 +99,29 @@ void addDetectorCommand(CLI::App& app) {
 
   auto csv = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
-  CLI::App* import = cmd->add_subcommand(
+  // Not named "import": clang-format takes it for the C++20 keyword.
+  CLI::App* importCommand = cmd->add_subcommand(
       "import-trackml",
       "Build a detector file from the TrackML detectors.csv(.gz)");
-  import->add_option("csv", *csv, "detectors.csv or detectors.csv.gz")
+  importCommand->add_option("csv", *csv, "detectors.csv or detectors.csv.gz")
       ->required();
-  import->add_option("-o,--output", *out, "TOML file (default: stdout)");
-  import->callback([csv, out]() {
+  importCommand->add_option("-o,--output", *out, "TOML file (default: stdout)");
+  importCommand->callback([csv, out]() {
+    if (!out->empty()) {
+      prepareOutputFile(*out, "-o");
+    }
     TrackmlDetectorOptions options;
-  options.source = *csv;
-  std::string toml = buildTrackmlDetectorToml(
-      parseTrackmlModules(readTextFile(*csv), *csv), options);
-  // Validate before writing: the result must load.
-  parseDetector(toml, "generated TrackML detector");
-  if (out->empty()) {
-    std::fwrite(toml.data(), 1, toml.size(), stdout);
-  } else {
-    writeTextFile(*out, toml, false);
-  }
-});
-}  // namespace conftrack::cli
+    options.source = *csv;
+    std::string toml = buildTrackmlDetectorToml(
+        parseTrackmlModules(readTextFile(*csv), *csv), options);
+    // Validate before writing: the result must load.
+    parseDetector(toml, "generated TrackML detector");
+    if (out->empty()) {
+      std::fwrite(toml.data(), 1, toml.size(), stdout);
+    } else {
+      writeTextFile(*out, toml, false);
+    }
+  });
+}
 
 }  // namespace conftrack::cli

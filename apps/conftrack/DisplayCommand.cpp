@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
+#include "OptionChecks.hpp"
 #include "ReconstructionOptions.hpp"
 
 namespace conftrack::cli {
@@ -21,15 +23,16 @@ struct DisplayOptions {
   ReconstructionOptions reco;
   std::string input;
   std::string tracks;
-  std::int64_t event = -1;
+  /// Event number; none: the first in the folder.
+  std::optional<std::uint64_t> event;
   std::string output = "event_display.png";
 };
 
 void runDisplay(const DisplayOptions& opt) {
   Detector detector = loadDetector(opt.reco.detector);
   std::vector<std::uint64_t> numbers = requireEvents(opt.input);
-  std::uint64_t number =
-      opt.event < 0 ? numbers.front() : static_cast<std::uint64_t>(opt.event);
+  prepareOutputFile(opt.output, "-o");
+  std::uint64_t number = opt.event.value_or(numbers.front());
   Event event =
       readEvent(opt.input, number, &detector, ReadOptions{false, false});
   std::vector<Track> tracks;
@@ -56,7 +59,8 @@ void addDisplayCommand(CLI::App& app) {
       ->required();
   cmd->add_option("-t,--tracks", opt->tracks,
                   "Folder with track files (default: reconstruct now)");
-  cmd->add_option("--event", opt->event, "Event number (default: first)");
+  cmd->add_option("--event", opt->event, "Event number (default: first)")
+      ->check(wholeNumber(0, UINT64_MAX));
   cmd->add_option("-o,--output", opt->output, "PNG file")
       ->capture_default_str();
   addReconstructionOptions(*cmd, opt->reco);

@@ -12,6 +12,7 @@
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
+#include "OptionChecks.hpp"
 
 namespace conftrack::cli {
 
@@ -30,6 +31,7 @@ struct EvaluateOptions {
 void runEvaluate(const EvaluateOptions& opt) {
   Detector detector = loadDetector(opt.detector);
   std::vector<std::uint64_t> numbers = requireEvents(opt.events);
+  prepareOutputFolder(opt.output, "-o");
   PerformanceCollector collector(opt.singleParticle
                                      ? PerformanceConfig::singleParticleSample()
                                      : PerformanceConfig{});

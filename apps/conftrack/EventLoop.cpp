@@ -8,9 +8,12 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <charconv>
+#include <optional>
 #include <thread>
 
+#include "OptionChecks.hpp"
 #include "Progress.hpp"
 
 namespace conftrack::cli {
@@ -21,8 +24,11 @@ void addSampleOptions(CLI::App& cmd, SampleOptions& o) {
       ->capture_default_str();
   cmd.add_option("--overlay-bx", o.overlayBx,
                  "Bunch crossings of gamma gamma -> hadrons overlay")
-      ->capture_default_str();
-  cmd.add_option("--seed", o.seed, "Run seed")->capture_default_str();
+      ->capture_default_str()
+      ->check(wholeNumber(0, 100000));
+  cmd.add_option("--seed", o.seed, "Run seed")
+      ->capture_default_str()
+      ->check(wholeNumber(0, UINT64_MAX));
   cmd.add_option("--config", o.configFile,
                  "Generator TOML file ([generator] and [overlay] tables)")
       ->check(CLI::ExistingFile);
@@ -88,7 +94,8 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
 
 void addThreadsOption(CLI::App& cmd, std::size_t& threads) {
   cmd.add_option("-j,--threads", threads, "Threads (0: all cores)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wholeNumber(0, kMaxThreads));
 }
 
 std::vector<std::uint64_t> requireEvents(const std::string& dir) {
@@ -109,7 +116,14 @@ std::size_t effectiveThreads(std::size_t threads) {
 void forEachEvent(std::size_t n, std::size_t threads, const std::string& label,
                   const std::function<void(std::size_t)>& fn) {
   Progress progress(label, n);
-  tbb::task_arena arena(static_cast<int>(effectiveThreads(threads)));
+  const std::size_t nThreads = effectiveThreads(threads);
+  // More threads than cores were asked for: TBB caps its workers at the
+  // core count unless told otherwise (with a warning on stderr).
+  std::optional<tbb::global_control> allow;
+  if (nThreads > std::max(1u, std::thread::hardware_concurrency())) {
+    allow.emplace(tbb::global_control::max_allowed_parallelism, nThreads);
+  }
+  tbb::task_arena arena(static_cast<int>(nThreads));
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {

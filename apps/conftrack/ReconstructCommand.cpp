@@ -13,6 +13,7 @@
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
+#include "OptionChecks.hpp"
 #include "ReconstructionOptions.hpp"
 #include "StepReport.hpp"
 
@@ -42,7 +43,7 @@ void runReconstruct(const ReconstructOptions& opt) {
   Detector detector = loadDetector(opt.reco.detector);
   Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
   std::vector<std::uint64_t> events = requireEvents(opt.input);
-  std::filesystem::create_directories(opt.output);
+  prepareOutputFolder(opt.output, "-o");
   std::vector<EventReport> reports(events.size());
   forEachEvent(events.size(), opt.threads, "reconstruct", [&](std::size_t i) {
     Event event =

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include "OptionChecks.hpp"
+
 namespace conftrack::cli {
 
 void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& o) {
@@ -12,9 +14,11 @@ void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& o) {
   cmd.add_option("--chain", o.chain,
                  "Finding chain name or TOML file (default: the detector's)");
   cmd.add_flag("--no-fit", o.noFit, "Finding only, no Kalman fit");
-  cmd.add_option("--fit-pdg", o.fitPdg,
-                 "Mass hypothesis of the fit (PDG code: 211, 13, 11, ...)")
-      ->capture_default_str();
+  cmd.add_option(
+         "--fit-pdg", o.fitPdg,
+         "Mass hypothesis of the fit (PDG code: 211, 13, 11, 321, 2212)")
+      ->capture_default_str()
+      ->check(pdgCode());
 }
 
 Reconstruction::Config makeReconstructionConfig(const ReconstructionOptions& o,

@@ -13,6 +13,7 @@
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
+#include "OptionChecks.hpp"
 #include "ReconstructionOptions.hpp"
 #include "StepReport.hpp"
 
@@ -197,7 +198,15 @@ void runReport(const RunOptions& opt, const Detector& detector,
 void runRun(const RunOptions& opt) {
   Detector detector = loadDetector(opt.reco.detector);
   Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
-  for (const ReportSpec& spec : reportsOf(opt)) {
+  const std::vector<ReportSpec> reports = reportsOf(opt);
+  for (const ReportSpec& spec : reports) {
+    // Not opt.output / "": the trailing "/" hides that a file has the name.
+    prepareOutputFolder(spec.folder.empty()
+                            ? std::filesystem::path(opt.output)
+                            : std::filesystem::path(opt.output) / spec.folder,
+                        "-o");
+  }
+  for (const ReportSpec& spec : reports) {
     runReport(opt, detector, reco, spec);
   }
 }
@@ -215,7 +224,7 @@ void addRunCommand(CLI::App& app) {
   addReconstructionOptions(*cmd, opt->reco);
   cmd->add_option("-n,--events", opt->events, "Number of events")
       ->capture_default_str()
-      ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}));
+      ->check(wholeNumber(1, 100000000));
   cmd->add_option("-o,--output", opt->output, "Output folder")
       ->capture_default_str();
   addThreadsOption(*cmd, opt->threads);

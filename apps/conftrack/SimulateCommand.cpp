@@ -9,10 +9,12 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
+#include "OptionChecks.hpp"
 #include "Progress.hpp"
 
 namespace conftrack::cli {
@@ -51,9 +53,18 @@ EventCounts countEvent(const Event& event) {
 }
 
 void runSimulate(const SimulateOptions& opt) {
+  // Event numbers seed the simulation and name the files: they must not
+  // wrap around.
+  if (opt.firstEvent >
+      std::numeric_limits<std::uint64_t>::max() - (opt.events - 1)) {
+    throw InputError("--first-event " + std::to_string(opt.firstEvent) +
+                     " with --events " + std::to_string(opt.events) +
+                     ": the last event number would exceed " +
+                     std::to_string(std::numeric_limits<std::uint64_t>::max()));
+  }
   Detector detector = loadDetector(opt.detector);
   EventSimulation sim(detector, makeSimulationConfig(opt.sample));
-  std::filesystem::create_directories(opt.output);
+  prepareOutputFolder(opt.output, "-o");
   std::vector<EventCounts> counts(opt.events);
   CONFTRACK_INFO("simulating " << opt.events << " events of "
                                << sim.description() << " in " << detector.name()
@@ -98,9 +109,10 @@ void addSimulateCommand(CLI::App& app) {
   addSampleOptions(*cmd, opt->sample);
   cmd->add_option("-n,--events", opt->events, "Number of events")
       ->capture_default_str()
-      ->check(CLI::Range(std::size_t{1}, std::size_t{100000000}));
+      ->check(wholeNumber(1, 100000000));
   cmd->add_option("--first-event", opt->firstEvent, "Number of the first event")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wholeNumber(0, std::numeric_limits<std::uint64_t>::max()));
   cmd->add_option("-o,--output", opt->output, "Output folder")
       ->capture_default_str();
   addThreadsOption(*cmd, opt->threads);

@@ -18,6 +18,7 @@
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
+#include "OptionChecks.hpp"
 
 namespace conftrack::cli {
 
@@ -84,7 +85,7 @@ void runTrackmlSim(const TrackmlSimOptions& opt) {
   cfg.seed = opt.seed;
   TrackmlEventSimulation sim(detector, &map, cfg);
   std::vector<std::uint64_t> numbers = requireEvents(opt.input);
-  std::filesystem::create_directories(opt.output);
+  prepareOutputFolder(opt.output, "-o");
   forEachEvent(numbers.size(), opt.threads, "simulate", [&](std::size_t i) {
     Event real =
         readEvent(opt.input, numbers[i], nullptr, ReadOptions{false, true});
@@ -127,12 +128,15 @@ void addTrackmlCommands(CLI::App& app) {
       ->capture_default_str();
   s->add_option("--noise", sim->noise, "Fraction of noise hits per layer")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.99));
+      ->check(finiteNumber(0.0, 0.99));
   s->add_option("--min-pt", sim->minPt,
                 "Particles below this pT [GeV] are "
                 "not simulated")
-      ->capture_default_str();
-  s->add_option("--seed", sim->seed, "Run seed")->capture_default_str();
+      ->capture_default_str()
+      ->check(finiteNumber(0.0, 1e6));
+  s->add_option("--seed", sim->seed, "Run seed")
+      ->capture_default_str()
+      ->check(wholeNumber(0, UINT64_MAX));
   addThreadsOption(*s, sim->threads);
   s->callback([sim]() { runTrackmlSim(*sim); });
 }

@@ -1,7 +1,39 @@
-#define TOML_IMPLEMENTATION
-#include "conftrack/core/ConfigTable.hpp"
+// This file compiles the toml++ parser (TOML_IMPLEMENTATION). Debian's
+// toml++ 3.3.0 states internal assumptions about its input with
+// TOML_ASSERT_ASSUME (__builtin_assume in a release build) and
+// TOML_UNREACHABLE (__builtin_unreachable), and malformed input can break
+// them (found by fuzzing, docs/fuzzing.md; fixed in later toml++): undefined
+// behaviour. Here both throw instead, and ConfigTable::parse reports the
+// input as refused. They are redefined after toml++'s preprocessor header
+// and before the parser, which only this file compiles.
+#include <stdexcept>
 
+namespace conftrack::detail {
+/// A toml++ parser assumption failed on the input.
+struct TomlAssumptionFailed : std::logic_error {
+  TomlAssumptionFailed() : std::logic_error("toml++ assumption failed") {}
+};
+}  // namespace conftrack::detail
+
+// In toml++'s noexcept functions (node and table accessors, not the
+// parser) the throw becomes std::terminate: still defined behaviour, which
+// GCC warns about.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wterminate"
+#endif
+
+#define TOML_IMPLEMENTATION
+#include <toml++/impl/preprocessor.h>
+#undef TOML_ASSERT_ASSUME
+#define TOML_ASSERT_ASSUME(expr) \
+  ((expr) ? static_cast<void>(0) \
+          : throw ::conftrack::detail::TomlAssumptionFailed())
+#undef TOML_UNREACHABLE
+#define TOML_UNREACHABLE throw ::conftrack::detail::TomlAssumptionFailed()
+
+#include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TomlInputCheck.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -10,12 +42,17 @@ namespace conftrack {
 
 std::shared_ptr<toml::table> ConfigTable::parse(std::string_view text,
                                                 const std::string& file) {
+  requireSafeToml(text, file);
   try {
     return std::make_shared<toml::table>(toml::parse(text, file));
   } catch (const toml::parse_error& e) {
     throw InputError(
         location(file, e.source().begin.line),
         std::string("TOML syntax: ") + std::string(e.description()));
+  } catch (const detail::TomlAssumptionFailed&) {
+    throw InputError(location(file),
+                     "TOML syntax: malformed input that the TOML parser "
+                     "(toml++ 3.3.0) cannot read safely");
   }
 }
 
@@ -76,19 +113,30 @@ const toml::node& ConfigTable::require(std::string_view key) const {
   return *n;
 }
 
-void ConfigTable::checkRange(std::string_view key, double value,
-                             const Range& range) const {
-  if (!std::isfinite(value)) {
-    fail(key, "must be finite");
+std::string rangeViolation(double value, const Range& range) {
+  if (std::isnan(value)) {
+    return "must not be NaN";
   }
   bool lowOk = range.minInclusive ? value >= range.min : value > range.min;
   bool highOk = range.maxInclusive ? value <= range.max : value < range.max;
-  if (!lowOk || !highOk) {
-    std::ostringstream os;
-    os << "value " << value << " out of range ";
-    os << (range.minInclusive ? '[' : '(') << range.min << ", " << range.max
-       << (range.maxInclusive ? ']' : ')');
-    fail(key, os.str());
+  if (lowOk && highOk) {
+    return "";
+  }
+  std::ostringstream os;
+  os << "value " << value << " out of range ";
+  os << (range.minInclusive ? '[' : '(') << range.min << ", " << range.max
+     << (range.maxInclusive ? ']' : ')');
+  return os.str();
+}
+
+void ConfigTable::checkRange(std::string_view key, double value,
+                             const Range& range) const {
+  // A file value is always finite: "inf" and "nan" in TOML are typos.
+  if (!std::isfinite(value)) {
+    fail(key, "must be finite");
+  }
+  if (std::string problem = rangeViolation(value, range); !problem.empty()) {
+    fail(key, problem);
   }
 }
 

@@ -4,7 +4,7 @@
 
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
+#include <string>
 
 namespace conftrack {
 
@@ -34,13 +34,26 @@ std::filesystem::path resolveShippedFile(const std::string& folder,
 
 std::string readConfigText(const std::filesystem::path& file,
                            const std::string& what) {
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   if (!in) {
     throw InputError(file.string(), "cannot open " + what + " file");
   }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+  // Read at most one byte more than the limit: a link to /dev/zero or a
+  // huge file must not be read without bound.
+  std::string text;
+  char buffer[1 << 14];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxConfigFileBytes) {
+      throw InputError(file.string(), what + " file larger than " +
+                                          std::to_string(kMaxConfigFileBytes) +
+                                          " bytes");
+    }
+  }
+  if (in.bad()) {
+    throw InputError(file.string(), "cannot read " + what + " file");
+  }
+  return text;
 }
 
 }  // namespace conftrack

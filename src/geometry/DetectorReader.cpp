@@ -16,6 +16,10 @@ namespace {
 /// Two sensitive surfaces closer than this are considered to overlap.
 constexpr double kMinimumGap = 0.1 * units::mm;
 
+/// TrackML volume and layer ids: positive, and they fit the uint32 of the
+/// files (the next free volume must fit too).
+const Range kTrackmlIdRange{0.0, 4294967294.0, false, true};
+
 /// Material fractions at or above one X0 per surface are not a tracker.
 const Range kX0Range{0.0, 1.0, true, false};
 
@@ -95,11 +99,11 @@ class Builder {
     std::uint32_t volBarrel = 0;
     if (barrel) {
       volBarrel = static_cast<std::uint32_t>(
-          t.getInt("trackml_volume", nextVolume, Range::positive()));
+          t.getInt("trackml_volume", nextVolume, kTrackmlIdRange));
       nextVolume = std::max(nextVolume, volBarrel + 1);
     } else if (t.has("trackml_volumes")) {
       std::vector<double> v =
-          t.getDoubleArray("trackml_volumes", Range::positive());
+          t.getDoubleArray("trackml_volumes", kTrackmlIdRange);
       if (v.size() != 2 || v[0] != std::floor(v[0]) ||
           v[1] != std::floor(v[1]) || v[0] == v[1]) {
         t.fail("trackml_volumes",
@@ -111,6 +115,15 @@ class Builder {
     } else {
       volNeg = nextVolume++;
       volPos = nextVolume++;
+    }
+
+    // A TrackML volume is one subdetector (one side of an endcap): shared,
+    // the hits of one would be read onto the layers of the other.
+    if (barrel) {
+      claimVolume(t, "trackml_volume", volBarrel, sub.name);
+    } else {
+      claimVolume(t, "trackml_volumes", volNeg, sub.name + " (-z)");
+      claimVolume(t, "trackml_volumes", volPos, sub.name + " (+z)");
     }
 
     std::vector<ConfigTable> layers = t.getTableArray("layer");
@@ -130,7 +143,7 @@ class Builder {
       layer.id.layer = static_cast<std::uint16_t>(i);
       layer.trackmlLayer = static_cast<std::uint32_t>(
           l.getInt("trackml_layer", static_cast<std::int64_t>(2 * (i + 1)),
-                   Range::positive()));
+                   kTrackmlIdRange));
       layer.thicknessX0 = l.getDouble("x_over_x0", kX0Range);
       layer.sigmaU =
           l.getDouble("sigma_rphi_um", Range::positive()) * units::um;
@@ -147,6 +160,8 @@ class Builder {
         layer.nZModules = static_cast<std::uint32_t>(
             l.getInt("n_z_modules", 1, Range::closed(1, 1e6)));
         layer.trackmlVolume = volBarrel;
+        claimTrackmlLayer(l, "trackml_layer", volBarrel, layer.trackmlLayer,
+                          layer.name);
         layer.id.side = Side::eBarrel;
         checkInside(l, "r_mm", layer.r, halfZ);
         l.rejectUnknownKeys();
@@ -168,8 +183,12 @@ class Builder {
         // the -z side may need its own layer_id.
         const auto trackmlLayerNeg = static_cast<std::uint32_t>(l.getInt(
             "trackml_layer_neg", static_cast<std::int64_t>(layer.trackmlLayer),
-            Range::positive()));
+            kTrackmlIdRange));
         checkInside(l, "z_mm", layer.rMax, z);
+        claimTrackmlLayer(l, "trackml_layer_neg", volNeg, trackmlLayerNeg,
+                          layer.name + "_neg");
+        claimTrackmlLayer(l, "trackml_layer", volPos, layer.trackmlLayer,
+                          layer.name + "_pos");
         l.rejectUnknownKeys();
         SensitiveLayer neg = layer;
         neg.name = layer.name + "_neg";
@@ -195,6 +214,30 @@ class Builder {
     }
     t.rejectUnknownKeys();
     m_subdetectors.push_back(std::move(sub));
+  }
+
+  void claimVolume(const ConfigTable& t, std::string_view key,
+                   std::uint32_t volume, const std::string& owner) {
+    auto [it, inserted] =
+        m_volumes.emplace(volume, std::make_pair(owner, t.lineOf(key)));
+    if (!inserted) {
+      t.fail(key, "TrackML volume " + std::to_string(volume) +
+                      " is already that of " + it->second.first + " (line " +
+                      std::to_string(it->second.second) +
+                      "): each subdetector (endcap side) needs its own");
+    }
+  }
+
+  void claimTrackmlLayer(const ConfigTable& t, std::string_view key,
+                         std::uint32_t volume, std::uint32_t layer,
+                         const std::string& owner) {
+    const std::uint64_t id = (std::uint64_t{volume} << 32) | layer;
+    auto [it, inserted] = m_trackmlLayers.emplace(id, owner);
+    if (!inserted) {
+      t.fail(key, "TrackML (volume, layer) = (" + std::to_string(volume) +
+                      ", " + std::to_string(layer) +
+                      ") is already that of layer '" + it->second + "'");
+    }
   }
 
   void checkInside(const ConfigTable& t, std::string_view key, double r,
@@ -331,6 +374,10 @@ class Builder {
   std::vector<ConfigTable> m_layerTables;  // parallel to m_layers
   std::vector<PassiveSurface> m_passives;
   std::map<std::string, std::size_t> m_names;
+  /// TrackML volume -> (owner, line).
+  std::map<std::uint32_t, std::pair<std::string, std::size_t>> m_volumes;
+  /// (volume << 32 | layer) -> layer name.
+  std::map<std::uint64_t, std::string> m_trackmlLayers;
 };
 
 }  // namespace

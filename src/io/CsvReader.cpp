@@ -21,17 +21,47 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-/// Shortens long field text in messages and masks control characters, so
-/// that messages stay one printable line.
-std::string excerpt(std::string_view s) {
-  constexpr std::size_t kMax = 40;
-  std::string out(s.substr(0, kMax));
-  for (char& c : out) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-      c = '?';
+/// Length of the valid UTF-8 sequence at the start of `s` (0: invalid).
+std::size_t utf8Length(std::string_view s) {
+  const auto byte = [&](std::size_t i) {
+    return static_cast<unsigned char>(s[i]);
+  };
+  const unsigned char lead = byte(0);
+  std::size_t n = lead < 0x80                      ? 1
+                  : (lead >= 0xC2 && lead <= 0xDF) ? 2
+                  : (lead >= 0xE0 && lead <= 0xEF) ? 3
+                  : (lead >= 0xF0 && lead <= 0xF4) ? 4
+                                                   : 0;
+  if (n == 0 || n > s.size()) {
+    return 0;
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if ((byte(i) & 0xC0) != 0x80) {
+      return 0;
     }
   }
-  if (s.size() > kMax) {
+  return n;
+}
+
+/// Shortens long field text in messages and masks control characters and
+/// bytes that are not UTF-8, so that messages stay one printable line.
+std::string excerpt(std::string_view s) {
+  constexpr std::size_t kMax = 40;
+  const bool longer = s.size() > kMax;
+  s = s.substr(0, kMax);
+  std::string out;
+  while (!s.empty()) {
+    const std::size_t n = utf8Length(s);
+    const auto c = static_cast<unsigned char>(s[0]);
+    if (n == 0 || (n == 1 && (c < 0x20 || c == 0x7f))) {
+      out += '?';
+      s.remove_prefix(1);
+    } else {
+      out += s.substr(0, n);
+      s.remove_prefix(n);
+    }
+  }
+  if (longer) {
     out += "...";
   }
   return out;
@@ -51,6 +81,17 @@ CsvReader::CsvReader(std::string text, std::string fileName)
   }
   if (m_text.find('\0') != std::string::npos) {
     throw InputError(location(m_file), "binary data (NUL byte) in a CSV file");
+  }
+  // Lines end in LF or CRLF. A CR elsewhere in the first line means CR-only
+  // line ends (classic Mac OS): the whole file would be one line, and the
+  // first problem found would be a misleading one in the "header".
+  const std::size_t headerEnd =
+      std::min(m_text.find('\n', m_pos), m_text.size());
+  const std::size_t cr = m_text.find('\r', m_pos);
+  if (cr != std::string::npos && cr + 1 < headerEnd) {
+    throw InputError(location(m_file, 1),
+                     "line ends are CR only (classic Mac OS); expected LF or "
+                     "CRLF line ends");
   }
   // The header is the first line; leading empty lines are not allowed since
   // an empty file must be reported as such.

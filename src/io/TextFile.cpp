@@ -31,7 +31,12 @@ struct FileCloser {
 };
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
-std::string readRaw(const std::filesystem::path& file) {
+std::string tooLarge(std::size_t maxBytes) {
+  return "larger than " + std::to_string(maxBytes) +
+         " bytes (the limit of conftrack's text files)";
+}
+
+std::string readRaw(const std::filesystem::path& file, std::size_t maxBytes) {
   std::string name = file.string();
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) {
@@ -43,13 +48,21 @@ std::string readRaw(const std::filesystem::path& file) {
                      std::string("cannot open: ") + std::strerror(errno));
   }
   std::string data;
-  // The size is only a hint (the file may change underneath); read to EOF.
+  // The size is only a hint (the file may change underneath, and devices
+  // such as /dev/zero report none): read to EOF, at most maxBytes + 1.
   auto size = std::filesystem::file_size(file, ec);
-  data.resize(ec ? std::size_t{1} << 16 : static_cast<std::size_t>(size) + 1);
+  if (!ec && size > maxBytes) {
+    throw InputError(location(name), tooLarge(maxBytes));
+  }
+  data.resize(ec ? std::min(std::size_t{1} << 16, maxBytes + 1)
+                 : static_cast<std::size_t>(size) + 1);
   std::size_t used = 0;
   for (;;) {
     if (used == data.size()) {
-      data.resize(data.size() * 2);
+      if (used > maxBytes) {
+        throw InputError(location(name), tooLarge(maxBytes));
+      }
+      data.resize(std::min(data.size() * 2, maxBytes + 1));
     }
     std::size_t n =
         std::fread(data.data() + used, 1, data.size() - used, f.get());
@@ -62,12 +75,16 @@ std::string readRaw(const std::filesystem::path& file) {
       break;
     }
   }
+  if (used > maxBytes) {
+    throw InputError(location(name), tooLarge(maxBytes));
+  }
   data.resize(used);
   return data;
 }
 
 /// Decompresses all gzip members of `in`.
-std::string gunzip(std::string_view in, const std::string& name) {
+std::string gunzip(std::string_view in, const std::string& name,
+                   std::size_t maxBytes) {
   z_stream zs{};
   if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) {
     throw std::runtime_error("zlib: inflateInit2 failed");
@@ -89,6 +106,7 @@ std::string gunzip(std::string_view in, const std::string& name) {
     // us allocate gigabytes up front.
     guess = std::max(guess / 2, std::min(isize, in.size() * 1032));
   }
+  guess = std::min(guess, maxBytes);
   std::string out(guess + 1, '\0');
   std::size_t produced = 0;
   std::size_t consumed = 0;  // bytes of `in` handed to zlib so far
@@ -102,7 +120,12 @@ std::string gunzip(std::string_view in, const std::string& name) {
       consumed += n;
     }
     if (produced == out.size()) {
-      out.resize(out.size() * 2);
+      // One byte beyond the limit tells that the data exceed it.
+      if (produced > maxBytes) {
+        throw InputError(location(name),
+                         "decompressed data " + tooLarge(maxBytes));
+      }
+      out.resize(std::min(out.size() * 2, maxBytes + 1));
     }
     std::size_t room = std::min(out.size() - produced, kMaxZlibChunk);
     zs.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
@@ -135,6 +158,9 @@ std::string gunzip(std::string_view in, const std::string& name) {
     throw InputError(location(name),
                      std::string("corrupt gzip data: ") +
                          (zs.msg != nullptr ? zs.msg : zError(rc)));
+  }
+  if (produced > maxBytes) {
+    throw InputError(location(name), "decompressed data " + tooLarge(maxBytes));
   }
   out.resize(produced);
   return out;
@@ -187,12 +213,17 @@ std::string gzip(std::string_view in, int level) {
 
 }  // namespace
 
-std::string readTextFile(const std::filesystem::path& file) {
-  std::string raw = readRaw(file);
-  if (isGzipMagic(raw, 0)) {
-    return gunzip(raw, file.string());
+std::string readTextFile(const std::filesystem::path& file,
+                         std::size_t maxBytes) {
+  return decompressIfGzip(readRaw(file, maxBytes), file.string(), maxBytes);
+}
+
+std::string decompressIfGzip(std::string data, const std::string& source,
+                             std::size_t maxBytes) {
+  if (isGzipMagic(data, 0)) {
+    return gunzip(data, source, maxBytes);
   }
-  return raw;
+  return data;
 }
 
 bool hasGzipExtension(const std::filesystem::path& file) {

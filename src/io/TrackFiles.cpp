@@ -174,9 +174,11 @@ void writeTracks(const std::filesystem::path& dir, std::uint64_t eventNumber,
   removeIfExists(path(TrackFileKind::eTrackHits, !gz));
 }
 
-std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
-                                  const std::filesystem::path& trackHitsFile,
-                                  std::span<const Hit> hits) {
+std::vector<Track> parseTrackFiles(std::string tracksText,
+                                   const std::string& tracksSource,
+                                   std::string trackHitsText,
+                                   const std::string& trackHitsSource,
+                                   std::span<const Hit> hits) {
   std::vector<Track> tracks;
   // Per track: its id, declared n_hits and n_outliers, and its line.
   struct Declared {
@@ -187,7 +189,7 @@ std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
   std::vector<Declared> declared;
   std::unordered_map<std::uint64_t, std::size_t> indexById;
   {
-    CsvReader csv = CsvReader::open(tracksFile);
+    CsvReader csv(std::move(tracksText), tracksSource);
     std::vector<std::size_t> col;
     for (std::string_view name : trackColumns()) {
       col.push_back(csv.requireColumn(name));
@@ -232,13 +234,24 @@ std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
       }
       t.findingStep = csv.getInteger<std::uint16_t>(col[cRest + 4]);
       t.ptEstimate = csv.getDouble(col[cRest + 5]) * units::GeV;
+      if (t.ptEstimate < 0.0) {
+        csv.failField(col[cRest + 5], "is negative");
+      }
       t.fitted = flag(csv, col[cRest + 6]);
-      t.hits.reserve(d.hits);
-      t.outlier.reserve(d.hits);
+      // Unfitted tracks carry zeros; a fitted one in a magnetic field is
+      // curved. Omega = 0 would be a straight track of infinite pT, which
+      // the evaluation cannot place in any pT bin.
+      if (t.fitted && a[eOmega] == 0.0) {
+        csv.failField(col[3],
+                      "is 0 on a fitted track (a straight track, infinite "
+                      "pT: not a fit in a magnetic field)");
+      }
+      // No reserve(d.hits): n_hits is not trusted before the track-hits
+      // rows confirm it (n_hits = 4294967295 asked for 16 GB; fuzzing).
     }
   }
   {
-    CsvReader csv = CsvReader::open(trackHitsFile);
+    CsvReader csv(std::move(trackHitsText), trackHitsSource);
     const std::size_t cTrack = csv.requireColumn(c::kTrackId);
     const std::size_t cHit = csv.requireColumn(c::kHitId);
     const auto cOutlier = csv.findColumn(c::kOutlier);
@@ -274,21 +287,31 @@ std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     const Declared& d = declared[i];
     if (tracks[i].hits.size() != d.hits) {
-      throw InputError(location(tracksFile.string(), d.line),
-                       "n_hits is " + std::to_string(d.hits) + " but " +
-                           trackHitsFile.filename().string() + " has " +
-                           std::to_string(tracks[i].hits.size()) +
-                           " rows for this track");
+      throw InputError(
+          location(tracksSource, d.line),
+          "n_hits is " + std::to_string(d.hits) + " but " +
+              std::filesystem::path(trackHitsSource).filename().string() +
+              " has " + std::to_string(tracks[i].hits.size()) +
+              " rows for this track");
     }
     if (tracks[i].numOutliers() != d.outliers) {
-      throw InputError(location(tracksFile.string(), d.line),
-                       "n_outliers is " + std::to_string(d.outliers) + " but " +
-                           trackHitsFile.filename().string() + " flags " +
-                           std::to_string(tracks[i].numOutliers()) +
-                           " hits of this track as outliers");
+      throw InputError(
+          location(tracksSource, d.line),
+          "n_outliers is " + std::to_string(d.outliers) + " but " +
+              std::filesystem::path(trackHitsSource).filename().string() +
+              " flags " + std::to_string(tracks[i].numOutliers()) +
+              " hits of this track as outliers");
     }
   }
   return tracks;
+}
+
+std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
+                                  const std::filesystem::path& trackHitsFile,
+                                  std::span<const Hit> hits) {
+  return parseTrackFiles(readTextFile(tracksFile), tracksFile.string(),
+                         readTextFile(trackHitsFile), trackHitsFile.string(),
+                         hits);
 }
 
 std::vector<Track> readTracks(const std::filesystem::path& dir,

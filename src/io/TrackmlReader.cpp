@@ -5,10 +5,14 @@
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -95,6 +99,59 @@ class HitIdMap {
   std::unordered_map<std::uint64_t, HitIndex> m_map;
 };
 
+/// Hits closer to the beam line than this are refused: no tracking layer is
+/// there, and the conformal mapping u = x / (x^2 + y^2) would overflow.
+constexpr double kMinHitRadius = 1.0 * units::um;
+
+/// How far a hit may lie from the nominal surface of the layer it claims
+/// (normal to it and beyond its edges). Real modules are staggered and
+/// tilted around the nominal layer: the real TrackML hits lie up to 6.1 mm
+/// from the layers of detectors/trackml.toml. 20 mm admits that with a
+/// margin and still refuses a hit that names the wrong layer or none.
+constexpr double kLayerTolerance = 20.0 * units::mm;
+
+std::string millimetres(double value) {
+  std::ostringstream os;
+  os << std::setprecision(6) << value / units::mm << " mm";
+  return os.str();
+}
+
+/// Refuses a hit that lies outside the tracker or away from the layer its
+/// (volume_id, layer_id) names: such a file is corrupt or belongs to
+/// another detector, and reconstruction would silently produce nonsense.
+void checkOnLayer(const CsvReader& csv, const Hit& hit,
+                  const SensitiveLayer& layer, const Detector& detector) {
+  // hypot: x^2 + y^2 overflows for the 1e308 of a corrupt file.
+  const double r = std::hypot(hit.position.x(), hit.position.y());
+  const double z = hit.position.z();
+  const std::string at = "hit_id " + std::to_string(hit.id) +
+                         " at r = " + millimetres(r) +
+                         ", z = " + millimetres(z);
+  if (!(r <= detector.envelopeR() && std::abs(z) <= detector.envelopeZ())) {
+    csv.fail(at + " lies outside the tracker of detector '" + detector.name() +
+             "' (r <= " + millimetres(detector.envelopeR()) +
+             ", |z| <= " + millimetres(detector.envelopeZ()) + ")");
+  }
+  bool on = false;
+  std::string surface;
+  if (layer.isDisk()) {
+    on = std::abs(z - layer.z()) <= kLayerTolerance &&
+         r >= layer.rMin - kLayerTolerance && r <= layer.rMax + kLayerTolerance;
+    surface = "z = " + millimetres(layer.z()) + ", " + millimetres(layer.rMin) +
+              " <= r <= " + millimetres(layer.rMax);
+  } else {
+    on = std::abs(r - layer.r) <= kLayerTolerance &&
+         z >= layer.zMin - kLayerTolerance && z <= layer.zMax + kLayerTolerance;
+    surface =
+        "r = " + millimetres(layer.r) + ", |z| <= " + millimetres(layer.zMax);
+  }
+  if (!on) {
+    csv.fail(at + " is not on the layer its volume_id/layer_id name (" +
+             layer.name + ": " + surface + ", tolerance " +
+             millimetres(kLayerTolerance) + ")");
+  }
+}
+
 double nonNegative(const CsvReader& csv, std::size_t column) {
   double value = csv.getDouble(column);
   if (value < 0.0) {
@@ -105,10 +162,10 @@ double nonNegative(const CsvReader& csv, std::size_t column) {
 
 }  // namespace
 
-std::vector<Hit> readHits(const std::filesystem::path& file,
-                          const Detector* detector) {
+std::vector<Hit> parseHits(std::string text, const std::string& source,
+                           const Detector* detector) {
   namespace c = trackml::hits;
-  CsvReader csv = CsvReader::open(file);
+  CsvReader csv(std::move(text), source);
   const std::size_t cId = csv.requireColumn(c::kHitId);
   const auto cPos = VectorColumns::require(csv, c::kX, c::kY, c::kZ);
   const std::size_t cVolume = csv.requireColumn(c::kVolumeId);
@@ -141,10 +198,10 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
       csv.fail("duplicate hit_id " + std::to_string(hit.id));
     }
     hit.position = cPos.read(csv, units::mm);
-    if (hit.position.x() == 0.0 && hit.position.y() == 0.0) {
+    if (!(std::hypot(hit.position.x(), hit.position.y()) >= kMinHitRadius)) {
       csv.fail("hit_id " + std::to_string(hit.id) +
-               " lies on the z axis (x = y = 0): conformal coordinates are "
-               "undefined");
+               " lies on the beam line (sqrt(x^2 + y^2) < 1 um): no tracking "
+               "layer is there and conformal coordinates are undefined");
     }
     TrackmlId tid{csv.getInteger<std::uint32_t>(cVolume),
                   csv.getInteger<std::uint32_t>(cLayer),
@@ -163,6 +220,7 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
                          std::to_string(layer->nPhiModules * layer->nZModules) +
                          " modules of layer " + layer->name);
       }
+      checkOnLayer(csv, hit, *layer, *detector);
       hit.detId = layer->id;
       hit.detId.module = tid.module;
       layer->localAxes(hit.position, hit.uAxis, hit.vAxis);
@@ -187,10 +245,10 @@ std::vector<Hit> readHits(const std::filesystem::path& file,
   return hits;
 }
 
-std::vector<HitTruth> readTruth(const std::filesystem::path& file,
-                                const std::vector<Hit>& hits) {
+std::vector<HitTruth> parseTruth(std::string text, const std::string& source,
+                                 const std::vector<Hit>& hits) {
   namespace c = trackml::truth;
-  CsvReader csv = CsvReader::open(file);
+  CsvReader csv(std::move(text), source);
   const std::size_t cHitId = csv.requireColumn(c::kHitId);
   const std::size_t cParticle = csv.requireColumn(c::kParticleId);
   const auto cPos = VectorColumns::require(csv, c::kTx, c::kTy, c::kTz);
@@ -216,7 +274,7 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
     t.particleId = csv.getInteger<std::uint64_t>(cParticle);
     t.position = cPos.read(csv, units::mm);
     t.momentum = cMom.read(csv, units::GeV);
-    t.weight = cWeight ? csv.getDouble(*cWeight) : 0.0;
+    t.weight = cWeight ? nonNegative(csv, *cWeight) : 0.0;
     t.time = cTime ? csv.getDouble(*cTime) * units::ns : 0.0;
   }
   auto missing = std::find(filled.begin(), filled.end(), 0);
@@ -232,9 +290,10 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
   return truth;
 }
 
-std::vector<Particle> readParticles(const std::filesystem::path& file) {
+std::vector<Particle> parseParticles(std::string text,
+                                     const std::string& source) {
   namespace c = trackml::particles;
-  CsvReader csv = CsvReader::open(file);
+  CsvReader csv(std::move(text), source);
   const std::size_t cId = csv.requireColumn(c::kParticleId);
   const auto cVertex = VectorColumns::require(csv, c::kVx, c::kVy, c::kVz);
   const auto cMom = VectorColumns::require(csv, c::kPx, c::kPy, c::kPz);
@@ -280,6 +339,20 @@ std::vector<Particle> readParticles(const std::filesystem::path& file) {
   std::sort(particles.begin(), particles.end(),
             [](const Particle& a, const Particle& b) { return a.id < b.id; });
   return particles;
+}
+
+std::vector<Hit> readHits(const std::filesystem::path& file,
+                          const Detector* detector) {
+  return parseHits(readTextFile(file), file.string(), detector);
+}
+
+std::vector<HitTruth> readTruth(const std::filesystem::path& file,
+                                const std::vector<Hit>& hits) {
+  return parseTruth(readTextFile(file), file.string(), hits);
+}
+
+std::vector<Particle> readParticles(const std::filesystem::path& file) {
+  return parseParticles(readTextFile(file), file.string());
 }
 
 Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,

@@ -63,10 +63,10 @@ std::filesystem::path writeSubmission(
   return file;
 }
 
-std::vector<std::uint64_t> readSubmission(
-    const std::filesystem::path& file, const std::vector<Hit>& hits,
+std::vector<std::uint64_t> parseSubmission(
+    std::string text, const std::string& source, const std::vector<Hit>& hits,
     std::optional<std::uint64_t> eventId) {
-  CsvReader csv = CsvReader::open(file);
+  CsvReader csv(std::move(text), source);
   const auto cEvent = csv.findColumn(kEventId);
   const std::size_t cHit = csv.requireColumn(kHitId);
   const std::size_t cTrack = csv.requireColumn(kTrackId);
@@ -129,6 +129,12 @@ std::vector<std::uint64_t> readSubmission(
     }
   }
   return labels;
+}
+
+std::vector<std::uint64_t> readSubmission(
+    const std::filesystem::path& file, const std::vector<Hit>& hits,
+    std::optional<std::uint64_t> eventId) {
+  return parseSubmission(readTextFile(file), file.string(), hits, eventId);
 }
 
 TrackmlScore scoreSubmission(const std::filesystem::path& submissionFile,

@@ -175,6 +175,48 @@ TEST(DetectorReader, OutsideEnvelope) {
   EXPECT_NE(msg.find("envelope"), std::string::npos) << msg;
 }
 
+TEST(DetectorReader, SharedTrackmlVolume) {
+  // Two barrels in one TrackML volume: the hits of the second would be
+  // read onto the layers of the first.
+  const std::string second = R"(
+[[subdetector]]
+name = "Outer"
+kind = "barrel"
+trackml_volume = 1
+
+  [[subdetector.layer]]
+  name = "O0"
+  r_mm = 500.0
+  half_z_mm = 600.0
+  x_over_x0 = 0.01
+  sigma_rphi_um = 5.0
+  sigma_z_um = 5.0
+)";
+  std::string text = kMinimal;
+  text.insert(text.find("[[passive.cylinder]]"), second + "\n");
+  std::string msg = errorOf(text);
+  EXPECT_NE(msg.find("test.toml:44: key 'subdetector[2].trackml_volume': "
+                     "TrackML volume 1 is already that of Barrel"),
+            std::string::npos)
+      << msg;
+  // The endcap's default volumes (2, 3) taken by an explicit barrel volume.
+  msg = errorOf(replace(text, "trackml_volume = 1", "trackml_volume = 3"));
+  EXPECT_NE(msg.find("TrackML volume 3 is already that of Endcap (+z)"),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(errorOf(replace(text, "trackml_volume = 1", "trackml_volume = 4")),
+            "");
+}
+
+TEST(DetectorReader, DuplicateTrackmlLayer) {
+  std::string msg = errorOf(replace(kMinimal, "  name = \"B1\"",
+                                    "  name = \"B1\"\n  trackml_layer = 2"));
+  EXPECT_NE(msg.find("key 'subdetector[0].layer[1].trackml_layer': TrackML "
+                     "(volume, layer) = (1, 2) is already that of layer 'B0'"),
+            std::string::npos)
+      << msg;
+}
+
 TEST(DetectorReader, BadKind) {
   std::string msg =
       errorOf(replace(kMinimal, "kind = \"endcap\"", "kind = \"disk\""));

@@ -252,6 +252,30 @@ TEST_F(TrackFiles, InconsistentTrackRows) {
               HasSubstr("column 'cov_d0_d0': '-1e-6' is negative"));
 }
 
+TEST_F(TrackFiles, FittedStraightTrackAndNegativePtEstimate) {
+  // Omega = 0 on a fitted track: infinite pT, no place in the evaluation's
+  // pT bins (it wrote NaN rates before it was refused).
+  std::string straight = row(0);
+  straight.replace(straight.find(",0.001,"), 7, ",0,");
+  EXPECT_THAT(
+      errorOf(kHeader + straight, kHitsHeader + hitRows(0), "tracks", 2),
+      HasSubstr("column 'omega': '0' is 0 on a fitted track"));
+  // Unfitted tracks carry zero parameters: valid.
+  std::string unfitted = row(0, "3", "0", "0");
+  unfitted.replace(unfitted.find(",0.001,"), 7, ",0,");
+  const auto hits = makeHits();
+  const auto read =
+      readTrackFiles(write("u-tracks.csv", kHeader + unfitted),
+                     write("u-track-hits.csv", kHitsHeader + hitRows(0)), hits);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_FALSE(read[0].fitted);
+  std::string negative = row(0);
+  negative.replace(negative.find(",1.5,"), 5, ",-1.5,");
+  EXPECT_THAT(
+      errorOf(kHeader + negative, kHitsHeader + hitRows(0), "tracks", 2),
+      HasSubstr("column 'pt_estimate': '-1.5' is negative"));
+}
+
 TEST_F(TrackFiles, BadTrackHitRows) {
   EXPECT_THAT(
       errorOf(kHeader + row(0), kHitsHeader + "1,3,0\n", "track-hits", 2),

@@ -237,9 +237,89 @@ TEST_F(TrackmlErrors, DuplicateHitIds) {
       HasSubstr("duplicate hit_id 50"));
 }
 
-TEST_F(TrackmlErrors, HitOnZAxis) {
+TEST_F(TrackmlErrors, HitOnBeamLine) {
   EXPECT_THAT(hitsError(kHitsHeader + "1,1,1,1,1,1,1\n2,0,-0,250,1,1,1\n", 3),
-              HasSubstr("hit_id 2 lies on the z axis"));
+              HasSubstr("hit_id 2 lies on the beam line"));
+  // x^2 + y^2 underflows to 0: the conformal mapping would give inf.
+  EXPECT_THAT(hitsError(kHitsHeader + "1,1e-200,1e-200,250,1,1,1\n", 2),
+              HasSubstr("hit_id 1 lies on the beam line"));
+  EXPECT_THAT(hitsError(kHitsHeader + "1,0,0,250,1,2,0\n", 2, &clicdet()),
+              HasSubstr("hit_id 1 lies on the beam line"));
+}
+
+TEST_F(TrackmlErrors, HitOutsideTheTracker) {
+  // CLICdet VertexBarrel layer 0 is (volume 1, layer 2) at r = 31.165 mm.
+  EXPECT_EQ(readHits(write("ok.csv", kHitsHeader + "1,31.165,0,10,1,2,0\n"),
+                     &clicdet())
+                .size(),
+            1u);
+  EXPECT_THAT(
+      hitsError(kHitsHeader + "1,1e308,1e308,1e308,1,2,0\n", 2, &clicdet()),
+      HasSubstr("hit_id 1 at r = 1.41421e+308 mm, z = 1e+308 mm lies outside "
+                "the tracker of detector 'CLICdet' (r <= 1500 mm, |z| <= "
+                "2306 mm)"));
+  EXPECT_THAT(
+      hitsError(kHitsHeader + "1,31.165,0,-3000,1,2,0\n", 2, &clicdet()),
+      HasSubstr("lies outside the tracker"));
+}
+
+TEST_F(TrackmlErrors, HitAwayFromItsLayer) {
+  // Inside the tracker, but 470 mm from the layer it names.
+  EXPECT_THAT(
+      hitsError(kHitsHeader + "1,500,0,10,1,2,0\n", 2, &clicdet()),
+      HasSubstr("hit_id 1 at r = 500 mm, z = 10 mm is not on the layer its "
+                "volume_id/layer_id name (VXD_B_L0: r = 31.165 mm"));
+  // Beyond the end of the barrel layer (|z| <= 130 mm) by more than 20 mm.
+  EXPECT_THAT(hitsError(kHitsHeader + "1,31.165,0,200,1,2,0\n", 2, &clicdet()),
+              HasSubstr("is not on the layer"));
+}
+
+TEST_F(TrackmlErrors, NegativeTruthWeight) {
+  fs::path hitsFile = write("hits.csv", kHitsHeader + "1,1,1,1,1,1,1\n");
+  auto hits = readHits(hitsFile, nullptr);
+  fs::path truth = write("truth.csv", kTruthHeader + "1,0,1,1,1,1,1,1,-0.5\n");
+  EXPECT_THAT(errorOf([&] { readTruth(truth, hits); }, truth, 2),
+              HasSubstr("column 'weight': '-0.5' is negative"));
+}
+
+TEST_F(TrackmlErrors, CrOnlyLineEnds) {
+  // Not "duplicate column '1'" from one long line.
+  EXPECT_THAT(hitsError("hit_id,x,y,z,volume_id,layer_id,module_id\r"
+                        "1,1,1,1,1,1,1\r2,1,1,1,1,1,1\r",
+                        1),
+              HasSubstr("line ends are CR only"));
+}
+
+TEST_F(TrackmlErrors, CrLfReadsLikeLf) {
+  const std::string rows = "1,31.165,0,10,1,2,0\n2,33.1,0.5,-4,1,4,0\n";
+  std::string crlf = kHitsHeader + rows;
+  for (std::size_t i = 0; (i = crlf.find('\n', i)) != std::string::npos;
+       i += 2) {
+    crlf.insert(i, "\r");
+  }
+  auto lf = readHits(write("lf.csv", kHitsHeader + rows), &clicdet());
+  auto dos = readHits(write("crlf.csv", crlf), &clicdet());
+  ASSERT_EQ(lf.size(), 2u);
+  ASSERT_EQ(dos.size(), 2u);
+  for (std::size_t i = 0; i < lf.size(); ++i) {
+    EXPECT_EQ(lf[i].id, dos[i].id);
+    EXPECT_EQ(lf[i].position, dos[i].position);
+    EXPECT_TRUE(lf[i].detId.sameSensor(dos[i].detId));
+  }
+}
+
+TEST_F(TrackmlErrors, NonUtf8BytesAreMaskedInMessages) {
+  EXPECT_THAT(hitsError(kHitsHeader + "1,\xff\xfe"
+                                      "1,1,1,1,1,1\n",
+                        2),
+              HasSubstr("column 'x': '??1' is not a number"));
+  // Valid UTF-8 is shown as it is.
+  EXPECT_THAT(hitsError(kHitsHeader + "1,1\xc2\xb5m,1,1,1,1,1\n", 2),
+              HasSubstr("column 'x': '1\xc2\xb5m' is not a number"));
+}
+
+TEST_F(TrackmlErrors, HeaderOnlyHitsFileIsAnEmptyEvent) {
+  EXPECT_TRUE(readHits(write("hits.csv", kHitsHeader), &clicdet()).empty());
 }
 
 TEST_F(TrackmlErrors, EmptyFile) {

@@ -1,8 +1,13 @@
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 
 #include <gtest/gtest.h>
+
+#include <limits>
+#include <stdexcept>
 
 #include "ChainText.hpp"
 
@@ -44,13 +49,14 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   EXPECT_EQ(c.steps[5].minHits, 5u);
   EXPECT_DOUBLE_EQ(c.steps[5].maxDistance, 0.015);
   EXPECT_EQ(c.steps[5].direction, SearchDirection::eOutsideIn);
-  // conftrack applies the displaced step's chi2 cut to both fits (README).
+  // conftrack applies the displaced step's chi2 cut to both fits
+  // (docs/algorithm.md §3.6).
   EXPECT_TRUE(!c.steps[5].onlySzChi2Cut && !c.steps[5].straightLineFit);
-  // conftrack's seventh step: four-hit displaced tracks (README).
+  // conftrack's seventh step: four-hit displaced tracks (§3.7).
   EXPECT_EQ(c.steps[6].name, "Displaced4");
   EXPECT_EQ(c.steps[6].minHits, 4u);
   EXPECT_EQ(c.steps[6].direction, SearchDirection::eOutsideIn);
-  // ... and its eighth: helix triplets for displaced tracks (README).
+  // ... and its eighth: helix triplets for displaced tracks (§3.8).
   EXPECT_EQ(c.steps[7].name, "DisplacedHelix");
   EXPECT_TRUE(c.steps[7].helix && !c.steps[7].build && !c.steps[7].extend);
   EXPECT_EQ(c.steps[7].minHits, 4u);
@@ -127,6 +133,100 @@ TEST(Chain, DuplicateStepAndEmptyChain) {
   EXPECT_NE(errorOf("[finder]\ntheta_range = 0.05\n").find("[[step]]"),
             std::string::npos);
   EXPECT_NE(errorOf("[finder]\nfoo = 1\n" + kStep).find("finder.foo"),
+            std::string::npos);
+}
+
+TEST(Chain, MinHitsZeroAndUnknownKeysNameTheKey) {
+  EXPECT_NE(errorOf(with("min_hits = 4", "min_hits = 0"))
+                .find("chain.toml:8: key 'step[0].min_hits': value 0 out of "
+                      "range [3, 100]"),
+            std::string::npos);
+  EXPECT_NE(errorOf(with("min_hits = 4", "min_hits = -1")).find("min_hits"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[finder]\ntheta_range = -0.1\n" + kStep)
+                .find("chain.toml:2: key 'finder.theta_range': value -0.1 out "
+                      "of range (0, 3.14159]"),
+            std::string::npos);
+}
+
+TEST(Chain, ValuesTakeTheUnitsOfTheirKeys) {
+  const FinderConfig c =
+      parseChain(kStep +
+                     "max_seed_z0_mm = 200.0\nmax_seed_length_mm = 800\n"
+                     "min_pt_GeV = 0.5\nmax_d0_mm = 50\n",
+                 "chain.toml", loadDetector("clicdet"));
+  const FindingStep& s = c.steps.at(0);
+  EXPECT_DOUBLE_EQ(s.maxSeedZ0, 200.0 * units::mm);
+  EXPECT_DOUBLE_EQ(s.maxSeedLength, 800.0 * units::mm);
+  EXPECT_DOUBLE_EQ(s.minPt, 0.5 * units::GeV);
+  EXPECT_DOUBLE_EQ(s.maxD0, 50.0 * units::mm);
+  EXPECT_DOUBLE_EQ(s.maxCellAngle, 0.005 * units::rad);
+  EXPECT_DOUBLE_EQ(s.maxDistance, 0.02 / units::mm);
+  EXPECT_DOUBLE_EQ(s.highPtCut, 10.0 * units::GeV);
+}
+
+/// A valid chain built in code: one build step over the vertex barrel.
+FinderConfig codeChain(const Detector& det) {
+  FinderConfig c;
+  FindingStep s;
+  s.name = "S0";
+  s.collections = {det.findSubdetector("VertexBarrel").value()};
+  s.build = true;
+  c.steps.push_back(s);
+  return c;
+}
+
+/// The message of the std::invalid_argument of the finder's constructor.
+std::string constructorError(const Detector& det, const FinderConfig& chain) {
+  try {
+    ConformalTrackFinder finder(det, {chain});
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Chain, ChainBuiltInCodeIsValidatedLikeAFile) {
+  const Detector det = loadDetector("clicdet");
+  EXPECT_EQ(constructorError(det, codeChain(det)), "");
+  // An empty first step would reuse a pool that does not exist.
+  FinderConfig c = codeChain(det);
+  c.steps[0].collections.clear();
+  EXPECT_NE(constructorError(det, c).find(
+                "key 'step[0].collections': the first step must name its "
+                "collections"),
+            std::string::npos);
+  c = codeChain(det);
+  c.steps[0].minHits = 0;
+  EXPECT_NE(constructorError(det, c).find("key 'step[0].min_hits': value 0"),
+            std::string::npos);
+  c = codeChain(det);
+  c.steps[0].chi2Cut = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(constructorError(det, c).find("chi2_cut': must not be NaN"),
+            std::string::npos);
+  c = codeChain(det);
+  c.steps[0].collections.push_back(99);
+  EXPECT_NE(constructorError(det, c).find("subdetector index 99"),
+            std::string::npos);
+  c = codeChain(det);
+  c.steps[0].build = false;
+  EXPECT_NE(constructorError(det, c).find("'step[0].actions'"),
+            std::string::npos);
+  c = codeChain(det);
+  c.steps.push_back(c.steps[0]);
+  EXPECT_NE(constructorError(det, c).find("duplicate step name 'S0'"),
+            std::string::npos);
+  c = codeChain(det);
+  c.steps[0].helix = true;  // needs max_seed_length_mm and min_pt_GeV
+  EXPECT_NE(constructorError(det, c).find("max_seed_length_mm"),
+            std::string::npos);
+  c = codeChain(det);
+  c.steps.clear();
+  EXPECT_NE(constructorError(det, c).find("key 'step': missing"),
+            std::string::npos);
+  c = codeChain(det);
+  c.extensionLookahead = -1;
+  EXPECT_NE(constructorError(det, c).find("key 'finder.extension_lookahead'"),
             std::string::npos);
 }
 

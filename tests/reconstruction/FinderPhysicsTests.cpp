@@ -1,7 +1,7 @@
 // Physics checks of the conformal finder on simulated events (truth is
 // used only here, to score the result). The sample sizes are the CI ones;
-// the full-statistics checks are documented in the README
-// ("Validation") and run with the same code through `conftrack run`.
+// the full-statistics checks are documented in docs/algorithm.md
+// (§7) and run with the same code through `conftrack run`.
 
 #include "conftrack/core/Random.hpp"
 #include "conftrack/evaluation/TruthMatching.hpp"
@@ -125,7 +125,7 @@ TEST_F(FinderPhysics, SingleMuons) {
   // both charges. Goal: >= 99.9 % of 10,000 muons per point with a pure
   // track holding >= 90 % of their hits. CI runs 1,000 per point and
   // allows 2 sigma of a 99.9 % binomial below the goal (99.7 %); the full
-  // check (README "Validation") sets CONFTRACK_MUONS_PER_POINT=10000 and
+  // check (docs/algorithm.md §7) sets CONFTRACK_MUONS_PER_POINT=10000 and
   // then requires the goal itself.
   const char* env = std::getenv("CONFTRACK_MUONS_PER_POINT");
   const std::size_t n = env != nullptr ? std::strtoul(env, nullptr, 10) : 1000;

@@ -35,6 +35,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -403,6 +404,26 @@ TEST(FitTrack, TooFewHitsAndBadInput) {
   KalmanFitter::Config bad;
   bad.minHits = 2;
   EXPECT_THROW(KalmanFitter(clicdet(), bad), std::invalid_argument);
+}
+
+TEST(FitTrack, MassHypothesisOfKnownPdgCodesOnly) {
+  EXPECT_DOUBLE_EQ(massHypothesis(13).value(), constants::kMuonMass);
+  EXPECT_DOUBLE_EQ(massHypothesis(-11).value(), constants::kElectronMass);
+  EXPECT_DOUBLE_EQ(massHypothesis(-2212).value(), constants::kProtonMass);
+  // 0 used to fall back to the pion mass; INT32_MIN was negated (UB).
+  for (std::int32_t pdg :
+       {0, 22, 2112, std::numeric_limits<std::int32_t>::min(),
+        std::numeric_limits<std::int32_t>::max()}) {
+    SCOPED_TRACE(pdg);
+    EXPECT_FALSE(massHypothesis(pdg).has_value());
+    KalmanFitter::Config config;
+    config.pdg = pdg;
+    EXPECT_THROW(KalmanFitter(clicdet(), config), std::invalid_argument);
+  }
+  KalmanFitter::Config electron;
+  electron.pdg = -11;
+  EXPECT_DOUBLE_EQ(KalmanFitter(clicdet(), electron).mass(),
+                   constants::kElectronMass);
 }
 
 TEST(FitTrack, RunCountsAndKeepsOrder) {

@@ -16,7 +16,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -298,10 +300,12 @@ TEST(Guards, ZeroIsRejected) {
   const Detector det = test::barrelDetector();
   FinderConfig cfg = denseChain();
   cfg.maxCellNeighbours = 0;
-  EXPECT_THROW(ConformalTrackFinder(det, {cfg}), InputError);
+  EXPECT_THROW(ConformalTrackFinder(det, {cfg}), std::invalid_argument);
   cfg = denseChain();
   cfg.maxCachedCells = 10;
-  EXPECT_THROW(cfg.validate(), InputError);
+  const std::optional<ChainProblem> problem = findChainProblem(cfg, det);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_EQ(problem->key, "finder.max_cached_cells");
   for (const char* key :
        {"max_seed_neighbours", "max_cell_neighbours", "max_leaves_per_seed",
         "max_window_hits", "max_cached_cells", "max_cells_per_hit"}) {

@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -27,12 +28,23 @@ struct Range {
   static Range positive() { return {0.0, Range{}.max, false, true}; }
   static Range nonNegative() { return {0.0, Range{}.max, true, true}; }
   static Range closed(double lo, double hi) { return {lo, hi, true, true}; }
+  /// (0, inf): positive and finite.
+  static Range positiveFinite() { return {0.0, Range{}.max, false, false}; }
 };
+
+/// Empty if `value` lies in `range` (an infinite bound that is inclusive
+/// admits infinity), else the problem: "must not be NaN" or "value -1 out
+/// of range (0, inf]". Shared by ConfigTable and the validation of
+/// configurations built in code, so that both say the same.
+std::string rangeViolation(double value, const Range& range);
 
 /// A view on one TOML table that remembers which keys were read.
 class ConfigTable {
  public:
-  /// Parses TOML text; throws InputError "file:line: ..." on syntax errors.
+  /// Parses TOML text; throws InputError "file:line: ..." on syntax errors,
+  /// on any non-ASCII byte or control character, and on a table header
+  /// without a key after its '[' (refused before toml++ sees them: Debian's
+  /// toml++ 3.3.0 has undefined behaviour on some of them).
   static std::shared_ptr<toml::table> parse(std::string_view text,
                                             const std::string& file);
 

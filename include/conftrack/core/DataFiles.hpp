@@ -4,6 +4,7 @@
 /// Locating shipped data files (detectors/, chains/) and reading text files
 /// with one-line errors.
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
@@ -22,7 +23,12 @@ std::filesystem::path resolveShippedFile(const std::string& folder,
                                          const std::string& nameOrPath,
                                          const std::string& what);
 
-/// Reads a whole text file; InputError "file: cannot open <what> file".
+/// Upper limit on the size of a configuration file (16 MiB; the shipped
+/// ones are a few kB).
+inline constexpr std::size_t kMaxConfigFileBytes = std::size_t{1} << 24;
+
+/// Reads a whole text file; InputError "file: cannot open <what> file", or
+/// "file: <what> file larger than ..." beyond kMaxConfigFileBytes.
 std::string readConfigText(const std::filesystem::path& file,
                            const std::string& what);
 

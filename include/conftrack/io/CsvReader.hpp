@@ -8,6 +8,9 @@
 /// one-line InputError "file:line: problem". Lines are numbered from 1 (the
 /// header). Empty lines are skipped, "\r\n" line ends and blanks around
 /// fields are accepted; quoting is not (the formats read here are numeric).
+/// CR-only line ends (classic Mac OS) are refused at line 1. Field text in
+/// messages is cut at 40 bytes, with control characters and bytes that are
+/// not UTF-8 shown as '?'.
 
 #include <charconv>
 #include <cmath>

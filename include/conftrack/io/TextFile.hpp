@@ -6,20 +6,35 @@
 /// Event files are read in one go (a TrackML hits file is a few MB) so that
 /// parsing runs over one contiguous buffer instead of a stream.
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <string_view>
 
 namespace conftrack {
 
+/// Upper limit on the size of a text file read by readTextFile, before and
+/// after decompression (1 GiB; a TrackML hits file is a few MB). Reading
+/// stops there with an InputError, so that a link to /dev/zero or a gzip
+/// bomb cannot exhaust the memory.
+inline constexpr std::size_t kMaxTextFileBytes = std::size_t{1} << 30;
+
 /// Reads a whole file into memory. A file starting with the gzip magic bytes
 /// (1f 8b) is decompressed, whatever its name; several concatenated gzip
 /// members are supported (as `zcat` does).
 ///
 /// Throws InputError "file: problem" if the file cannot be opened or read,
-/// if the gzip data is corrupt, truncated ("unexpected end of file") or
-/// followed by trailing garbage.
-std::string readTextFile(const std::filesystem::path& file);
+/// if it or its decompressed data exceed `maxBytes`, if the gzip data is
+/// corrupt, truncated ("unexpected end of file") or followed by trailing
+/// garbage.
+std::string readTextFile(const std::filesystem::path& file,
+                         std::size_t maxBytes = kMaxTextFileBytes);
+
+/// The decoding step of readTextFile on bytes already in memory: `data`
+/// decompressed if it starts with the gzip magic bytes, else unchanged.
+/// `source` names the data in error messages.
+std::string decompressIfGzip(std::string data, const std::string& source,
+                             std::size_t maxBytes = kMaxTextFileBytes);
 
 /// Default zlib level of the writers. Level 1 writes a TrackML hits file
 /// about 5x faster than gzip's default 6 (27 ms instead of 144 ms for

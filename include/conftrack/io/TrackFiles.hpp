@@ -102,12 +102,21 @@ void writeTracks(const std::filesystem::path& dir, std::uint64_t eventNumber,
 /// chi2, ndf, findingStep, ptEstimate and fitted filled.
 ///
 /// Errors: missing columns, bad numbers, duplicate track ids, n_outliers >
-/// n_hits, flags other than 0/1, negative variances; track-hits rows for
+/// n_hits, flags other than 0/1, negative variances, a negative
+/// pt_estimate, omega = 0 on a fitted track; track-hits rows for
 /// unknown track ids or hit ids not in `hits`, a hit twice on one track;
 /// a track whose n_hits or n_outliers disagree with its track-hits rows.
 std::vector<Track> readTrackFiles(const std::filesystem::path& tracksFile,
                                   const std::filesystem::path& trackHitsFile,
                                   std::span<const Hit> hits);
+
+/// readTrackFiles on the two files' texts already in memory (plain, see
+/// decompressIfGzip); the sources name them in error messages.
+std::vector<Track> parseTrackFiles(std::string tracksText,
+                                   const std::string& tracksSource,
+                                   std::string trackHitsText,
+                                   const std::string& trackHitsSource,
+                                   std::span<const Hit> hits);
 
 /// Reads the track files of event `eventNumber` from `dir` (plain or .gz;
 /// both present or none is an error).

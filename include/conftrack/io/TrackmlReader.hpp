@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace conftrack {
@@ -38,15 +39,20 @@ struct ReadOptions {
 /// missing resolutions are 0.
 ///
 /// Errors: missing columns, bad numbers, NaN/inf, negative resolutions,
-/// unknown layers, duplicate hit ids, and hits with x = y = 0 (on the z
-/// axis, where conformal coordinates are undefined).
+/// unknown layers, duplicate hit ids, and hits within 1 um of the beam line
+/// (no layer is there; conformal coordinates are undefined). With a
+/// detector also hits outside its envelope (r <= envelopeR, |z| <=
+/// envelopeZ) and hits more than 20 mm away from the surface of the layer
+/// they name (real modules are staggered around the nominal layer by a few
+/// mm).
 std::vector<Hit> readHits(const std::filesystem::path& file,
                           const Detector* detector);
 
 /// Reads a truth file; returns the truth parallel to `hits`.
 ///
 /// The file must have exactly one row per hit, in any order: rows for an
-/// unknown hit id, duplicate rows and hits without a row are errors.
+/// unknown hit id, duplicate rows and hits without a row are errors, and so
+/// are negative weights (the TrackML score sums them).
 std::vector<HitTruth> readTruth(const std::filesystem::path& file,
                                 const std::vector<Hit>& hits);
 
@@ -54,6 +60,15 @@ std::vector<HitTruth> readTruth(const std::filesystem::path& file,
 /// without particle_type; returns the particles sorted by id. Particle id 0
 /// (reserved for noise) and duplicate ids are errors.
 std::vector<Particle> readParticles(const std::filesystem::path& file);
+
+/// readHits, readTruth and readParticles on text already in memory (plain,
+/// see decompressIfGzip); `source` names it in error messages.
+std::vector<Hit> parseHits(std::string text, const std::string& source,
+                           const Detector* detector);
+std::vector<HitTruth> parseTruth(std::string text, const std::string& source,
+                                 const std::vector<Hit>& hits);
+std::vector<Particle> parseParticles(std::string text,
+                                     const std::string& source);
 
 /// Reads event `eventNumber` from `dir`: the hits file (required) and, if
 /// they exist and `options` asks for them, the truth and particles files.

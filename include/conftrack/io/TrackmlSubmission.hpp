@@ -50,6 +50,12 @@ std::vector<std::uint64_t> readSubmission(
     const std::filesystem::path& file, const std::vector<Hit>& hits,
     std::optional<std::uint64_t> eventId = std::nullopt);
 
+/// readSubmission on text already in memory (plain, see decompressIfGzip);
+/// `source` names it in error messages.
+std::vector<std::uint64_t> parseSubmission(
+    std::string text, const std::string& source, const std::vector<Hit>& hits,
+    std::optional<std::uint64_t> eventId = std::nullopt);
+
 /// Scores `submissionFile` against event `eventNumber` of `eventDir`
 /// (hits, truth and particles files, read without a detector). The truth
 /// file is required; its weight column is used if present, else the

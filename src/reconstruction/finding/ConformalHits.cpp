@@ -1,6 +1,7 @@
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,9 @@
 namespace conftrack {
 
 namespace {
+/// Hits closer to the beam line have no conformal coordinates.
+constexpr double kMinConformalRadius = 1.0 * units::um;
+
 /// Covariance of (u, v) from the tangential and radial variances.
 Matrix2 uvCovariance(double phi, double varT, double varR) {
   double c = std::cos(phi);
@@ -32,10 +36,13 @@ ConformalHits makeConformalHits(std::span<const Hit> hits,
   std::vector<double> radius(n);
   for (std::size_t i = 0; i < n; ++i) {
     radius[i] = hits[i].position.head<2>().norm();
-    if (!(radius[i] > 0.0)) {
+    // As the hits reader: within 1 um of the beam line u = x / r^2 and the
+    // variances / r^4 overflow; a non-finite position has no mapping.
+    if (!(radius[i] >= kMinConformalRadius) || !std::isfinite(radius[i]) ||
+        !std::isfinite(hits[i].position.z())) {
       throw InputError("hit " + std::to_string(hits[i].id) +
-                       " lies on the z axis: conformal coordinates are "
-                       "undefined");
+                       " lies on the beam line or is not finite: conformal "
+                       "coordinates are undefined");
     }
   }
   std::vector<HitIndex> order(n);

@@ -6,8 +6,24 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <stdexcept>
 
 namespace conftrack {
+
+StepStats& StepStats::operator+=(const StepStats& o) {
+  seeds += o.seeds;
+  cells += o.cells;
+  paths += o.paths;
+  candidates += o.candidates;
+  accepted += o.accepted;
+  extendedHits += o.extendedHits;
+  hitsUsed += o.hitsUsed;
+  pathOverflows += o.pathOverflows;
+  cellOverflows += o.cellOverflows;
+  recovered += o.recovered;
+  milliseconds += o.milliseconds;
+  return *this;
+}
 
 Track toTrack(const FoundTrack& found) {
   Track t;
@@ -26,7 +42,13 @@ Track toTrack(const FoundTrack& found) {
 ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
                                            Config config)
     : m_detector(&detector), m_config(std::move(config)) {
-  m_config.chain.validate();
+  // A chain built in code is checked like one read from a file (whose
+  // reader has already turned the same problem into an InputError).
+  if (std::optional<ChainProblem> p =
+          findChainProblem(m_config.chain, detector)) {
+    throw std::invalid_argument("ConformalTrackFinder: invalid chain: " +
+                                p->describe());
+  }
 }
 
 namespace {

@@ -3,73 +3,76 @@
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace conftrack {
 
 namespace {
 
-FindingStep readStep(const ConfigTable& t, const Detector& detector,
-                     bool first) {
-  FindingStep s;
-  s.name = t.getString("name");
-  if (s.name.empty()) {
-    t.fail("name", "must not be empty");
-  }
-  for (const std::string& c : t.getStringArray("collections")) {
+/// A required number in the unit its key names, converted to native units.
+double quantity(const ConfigTable& t, std::string_view key, double unit) {
+  return t.getDouble(key) * unit;
+}
+
+/// An optional number in the unit its key names; `fallback` is native.
+double quantity(const ConfigTable& t, std::string_view key, double unit,
+                double fallback) {
+  return t.has(key) ? t.getDouble(key) * unit : fallback;
+}
+
+/// An optional count that must fit std::uint32_t (its sense is checked by
+/// findChainProblem).
+std::uint32_t count(const ConfigTable& t, std::string_view key,
+                    std::uint32_t fallback) {
+  return static_cast<std::uint32_t>(
+      t.getInt(key, fallback,
+               Range::closed(0, std::numeric_limits<std::uint32_t>::max())));
+}
+
+std::vector<std::uint16_t> subdetectors(const ConfigTable& t,
+                                        std::string_view key,
+                                        const Detector& detector) {
+  std::vector<std::uint16_t> out;
+  for (const std::string& c : t.getStringArray(key)) {
     std::optional<std::uint16_t> sub = detector.findSubdetector(c);
     if (!sub) {
       std::string known;
       for (const Subdetector& d : detector.subdetectors()) {
         known += (known.empty() ? "" : ", ") + d.name;
       }
-      t.fail("collections", "detector '" + detector.name() +
-                                "' has no subdetector '" + c +
-                                "' (it has: " + known + ")");
+      t.fail(key, "detector '" + detector.name() + "' has no subdetector '" +
+                      c + "' (it has: " + known + ")");
     }
-    for (std::uint16_t existing : s.collections) {
-      if (existing == *sub) {
-        t.fail("collections", "subdetector '" + c + "' listed twice");
-      }
-    }
-    s.collections.push_back(*sub);
+    out.push_back(*sub);
   }
+  return out;
+}
+
+/// Fills a step from its table; the values' sense is checked afterwards
+/// by findChainProblem, as for a chain built in code.
+FindingStep readStep(const ConfigTable& t, const Detector& detector) {
+  using units::GeV;
+  using units::mm;
+  using units::rad;
+  const double perMm = 1.0 / units::mm;  // conformal distances
+  const double one = 1.0;                // dimensionless
+  FindingStep s;
+  s.name = t.getString("name");
+  s.collections = subdetectors(t, "collections", detector);
   if (t.has("seed_collections")) {
-    for (const std::string& c : t.getStringArray("seed_collections")) {
-      std::optional<std::uint16_t> sub = detector.findSubdetector(c);
-      if (!sub) {
-        t.fail("seed_collections", "detector '" + detector.name() +
-                                       "' has no subdetector '" + c + "'");
-      }
-      if (std::find(s.seedCollections.begin(), s.seedCollections.end(), *sub) !=
-          s.seedCollections.end()) {
-        t.fail("seed_collections", "subdetector '" + c + "' listed twice");
-      }
-      if (!s.collections.empty() &&
-          std::find(s.collections.begin(), s.collections.end(), *sub) ==
-              s.collections.end()) {
-        t.fail("seed_collections",
-               "subdetector '" + c + "' is not among the step's collections");
-      }
-      s.seedCollections.push_back(*sub);
-    }
+    s.seedCollections = subdetectors(t, "seed_collections", detector);
+    // In code an empty list means "seed from every hit"; in a file that is
+    // said by leaving the key out.
     if (s.seedCollections.empty()) {
       t.fail("seed_collections",
              "must not be empty (leave it out to seed from every hit)");
     }
   }
-  if (first && s.collections.empty()) {
-    t.fail("collections",
-           "the first step must name its collections (an empty list reuses "
-           "the previous step's hits)");
-  }
   std::vector<std::string> actions = t.getStringArray("actions");
-  if (actions.empty()) {
-    t.fail("actions",
-           "at least one of \"build\", \"extend\", \"sort\", \"helix\"");
-  }
   for (const std::string& a : actions) {
     bool* flag = a == "build"    ? &s.build
                  : a == "extend" ? &s.extend
@@ -85,38 +88,23 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
     }
     *flag = true;
   }
-  s.maxCellAngle =
-      t.getDouble("max_cell_angle", Range{0.0, 3.14159, false, true});
-  s.maxCellAngleRZ =
-      t.getDouble("max_cell_angle_rz", Range{0.0, 3.14159, false, true});
-  s.chi2Cut = t.getDouble("chi2_cut", Range::positive());
-  s.chi2PtScale =
-      t.getDouble("chi2_cut_pt_scale_GeV", s.chi2PtScale, Range::nonNegative());
-  s.minHits =
-      static_cast<std::uint32_t>(t.getInt("min_hits", Range::closed(3, 100)));
-  s.maxDistance = t.getDouble("max_distance", Range{0.0, 1.0, false, true});
-  s.slopeZRange = t.getDouble("slope_z_range", Range::positive());
-  s.highPtCut = t.getDouble("high_pt_cut_GeV", Range::nonNegative());
-  s.maxSeedDeltaPhi = t.getDouble("max_seed_dphi", s.maxSeedDeltaPhi,
-                                  Range{0.0, 3.15, false, true});
-  s.maxSeedZ0 = t.getDouble("max_seed_z0_mm", s.maxSeedZ0, Range::positive());
-  s.maxSeedLength =
-      t.getDouble("max_seed_length_mm", s.maxSeedLength, Range::positive());
-  s.maxSeedCells = static_cast<std::uint32_t>(
-      t.getInt("max_seed_cells", s.maxSeedCells, Range::closed(0, 1e6)));
-  s.maxPaths = static_cast<std::uint32_t>(
-      t.getInt("max_paths", s.maxPaths, Range::closed(0, 1e9)));
-  s.minPt = t.getDouble("min_pt_GeV", s.minPt, Range::nonNegative());
-  s.maxD0 = t.getDouble("max_d0_mm", s.maxD0, Range::positive());
-  s.maxMissedLayers = static_cast<std::uint32_t>(
-      t.getInt("max_missed_layers", s.maxMissedLayers, Range::closed(0, 10)));
-  if (s.helix && !std::isfinite(s.maxSeedLength)) {
-    t.fail("max_seed_length_mm",
-           "required by the \"helix\" action (it bounds the seed search)");
-  }
-  if (s.helix && s.minPt <= 0.0) {
-    t.fail("min_pt_GeV", "required by the \"helix\" action (> 0)");
-  }
+  s.maxCellAngle = quantity(t, "max_cell_angle", rad);
+  s.maxCellAngleRZ = quantity(t, "max_cell_angle_rz", rad);
+  s.chi2Cut = quantity(t, "chi2_cut", one);
+  s.chi2PtScale = quantity(t, "chi2_cut_pt_scale_GeV", GeV, s.chi2PtScale);
+  s.minHits = static_cast<std::uint32_t>(t.getInt(
+      "min_hits", Range::closed(0, std::numeric_limits<std::uint32_t>::max())));
+  s.maxDistance = quantity(t, "max_distance", perMm);
+  s.slopeZRange = quantity(t, "slope_z_range", one);
+  s.highPtCut = quantity(t, "high_pt_cut_GeV", GeV);
+  s.maxSeedDeltaPhi = quantity(t, "max_seed_dphi", rad, s.maxSeedDeltaPhi);
+  s.maxSeedZ0 = quantity(t, "max_seed_z0_mm", mm, s.maxSeedZ0);
+  s.maxSeedLength = quantity(t, "max_seed_length_mm", mm, s.maxSeedLength);
+  s.maxSeedCells = count(t, "max_seed_cells", s.maxSeedCells);
+  s.maxPaths = count(t, "max_paths", s.maxPaths);
+  s.minPt = quantity(t, "min_pt_GeV", GeV, s.minPt);
+  s.maxD0 = quantity(t, "max_d0_mm", mm, s.maxD0);
+  s.maxMissedLayers = count(t, "max_missed_layers", s.maxMissedLayers);
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);
@@ -140,83 +128,55 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector,
 
 }  // namespace
 
-void FinderConfig::validate() const {
-  auto atLeast = [](const char* key, double value, double low) {
-    if (!(value >= low)) {
-      throw InputError("finder settings", "key '" + std::string(key) +
-                                              "': must be at least " +
-                                              std::to_string(int(low)));
-    }
-  };
-  atLeast("clone_shared_hits", cloneSharedHits, 1);
-  atLeast("max_paths_per_seed", maxPathsPerSeed, 1);
-  atLeast("max_cells_per_seed", maxCellsPerSeed, 1);
-  atLeast("max_seed_neighbours", maxSeedNeighbours, 1);
-  atLeast("max_cell_neighbours", maxCellNeighbours, 1);
-  atLeast("max_leaves_per_seed", maxLeavesPerSeed, 1);
-  atLeast("max_window_hits", maxWindowHits, 1);
-  atLeast("max_cells_per_hit", maxCellsPerHit, 1);
-  atLeast("max_cached_cells", maxCachedCells, 1000);
-  atLeast("extension_lookahead", extensionLookahead, 0);
-  if (!(extensionPhiWindow > 0.0)) {
-    throw InputError("finder settings",
-                     "key 'extension_phi_window': must be positive");
-  }
-}
-
 FinderConfig parseChain(std::string_view text, const std::string& sourceName,
                         const Detector& detector) {
   std::shared_ptr<toml::table> table = ConfigTable::parse(text, sourceName);
   ConfigTable root(*table, sourceName, "");
   FinderConfig cfg;
-  if (auto f = root.findTable("finder")) {
-    cfg.thetaRange = f->getDouble("theta_range", cfg.thetaRange,
-                                  Range{0.0, 3.14159, false, true});
-    cfg.cloneSharedHits = static_cast<std::uint32_t>(f->getInt(
-        "clone_shared_hits", cfg.cloneSharedHits, Range::closed(1, 100)));
-    cfg.maxPathsPerSeed = static_cast<std::uint32_t>(f->getInt(
-        "max_paths_per_seed", cfg.maxPathsPerSeed, Range::closed(1, 1e9)));
-    cfg.maxCellsPerSeed = static_cast<std::uint32_t>(f->getInt(
-        "max_cells_per_seed", cfg.maxCellsPerSeed, Range::closed(1, 1e9)));
-    cfg.maxSeedNeighbours = static_cast<std::uint32_t>(f->getInt(
-        "max_seed_neighbours", cfg.maxSeedNeighbours, Range::closed(1, 1e9)));
-    cfg.maxCellNeighbours = static_cast<std::uint32_t>(f->getInt(
-        "max_cell_neighbours", cfg.maxCellNeighbours, Range::closed(1, 1e9)));
-    cfg.maxLeavesPerSeed = static_cast<std::uint32_t>(f->getInt(
-        "max_leaves_per_seed", cfg.maxLeavesPerSeed, Range::closed(1, 1e9)));
-    cfg.maxCellsPerHit = static_cast<std::uint32_t>(f->getInt(
-        "max_cells_per_hit", cfg.maxCellsPerHit, Range::closed(1, 1e9)));
-    cfg.maxWindowHits = static_cast<std::uint32_t>(
-        f->getInt("max_window_hits", cfg.maxWindowHits, Range::closed(1, 1e9)));
-    cfg.maxCachedCells = static_cast<std::uint32_t>(f->getInt(
-        "max_cached_cells", cfg.maxCachedCells, Range::closed(1000, 1e9)));
+  std::optional<ConfigTable> finder = root.findTable("finder");
+  if (finder) {
+    const ConfigTable& f = *finder;
+    cfg.thetaRange = quantity(f, "theta_range", units::rad, cfg.thetaRange);
+    cfg.cloneSharedHits = count(f, "clone_shared_hits", cfg.cloneSharedHits);
+    cfg.maxPathsPerSeed = count(f, "max_paths_per_seed", cfg.maxPathsPerSeed);
+    cfg.maxCellsPerSeed = count(f, "max_cells_per_seed", cfg.maxCellsPerSeed);
+    cfg.maxSeedNeighbours =
+        count(f, "max_seed_neighbours", cfg.maxSeedNeighbours);
+    cfg.maxCellNeighbours =
+        count(f, "max_cell_neighbours", cfg.maxCellNeighbours);
+    cfg.maxLeavesPerSeed = count(f, "max_leaves_per_seed", cfg.maxLeavesPerSeed);
+    cfg.maxCellsPerHit = count(f, "max_cells_per_hit", cfg.maxCellsPerHit);
+    cfg.maxWindowHits = count(f, "max_window_hits", cfg.maxWindowHits);
+    cfg.maxCachedCells = count(f, "max_cached_cells", cfg.maxCachedCells);
     cfg.extensionPhiWindow =
-        f->getDouble("extension_phi_window", cfg.extensionPhiWindow,
-                     Range{0.0, 3.14159, false, true});
-    cfg.extensionLookahead = static_cast<int>(f->getInt(
-        "extension_lookahead", cfg.extensionLookahead, Range::closed(0, 5)));
-    cfg.legacyFourTesla = f->getBool("legacy_four_tesla", false);
+        quantity(f, "extension_phi_window", units::rad, cfg.extensionPhiWindow);
+    cfg.extensionLookahead = static_cast<int>(
+        f.getInt("extension_lookahead", cfg.extensionLookahead,
+                 Range::closed(std::numeric_limits<int>::min(),
+                               std::numeric_limits<int>::max())));
+    cfg.legacyFourTesla = f.getBool("legacy_four_tesla", false);
     cfg.finalHoleFilling =
-        f->getBool("final_hole_filling", cfg.finalHoleFilling);
+        f.getBool("final_hole_filling", cfg.finalHoleFilling);
     cfg.scatteringAllowance =
-        f->getBool("scattering_allowance", cfg.scatteringAllowance);
-    f->rejectUnknownKeys();
+        f.getBool("scattering_allowance", cfg.scatteringAllowance);
+    f.rejectUnknownKeys();
   }
   std::vector<ConfigTable> steps = root.getTableArray("step");
-  if (steps.empty()) {
-    root.fail("step", "missing: a chain needs at least one [[step]]");
-  }
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    cfg.steps.push_back(readStep(steps[i], detector, i == 0));
-    for (std::size_t j = 0; j + 1 < cfg.steps.size(); ++j) {
-      if (cfg.steps[j].name == cfg.steps.back().name) {
-        steps[i].fail("name",
-                      "duplicate step name '" + cfg.steps.back().name + "'");
-      }
-    }
+  for (const ConfigTable& step : steps) {
+    cfg.steps.push_back(readStep(step, detector));
   }
   root.rejectUnknownKeys();
-  cfg.validate();
+  // The same validation as for a chain built in code, located at the key.
+  if (std::optional<ChainProblem> p = findChainProblem(cfg, detector)) {
+    if (p->step) {
+      steps[*p->step].fail(p->key, p->what);
+    }
+    constexpr std::string_view kFinder = "finder.";
+    if (p->key.starts_with(kFinder) && finder) {
+      finder->fail(p->key.substr(kFinder.size()), p->what);
+    }
+    root.fail(p->key, p->what);
+  }
   return cfg;
 }
 

@@ -40,21 +40,6 @@ constexpr std::uint8_t kUnreachable = 2;  ///< its surface was not reached
 /// A point closer than this to a surface is on it [mm].
 constexpr double kOnSurface = 1e-9 * units::mm;
 
-double massOfPdg(std::int32_t pdg) {
-  switch (std::abs(pdg)) {
-    case 11:
-      return constants::kElectronMass;
-    case 13:
-      return constants::kMuonMass;
-    case 321:
-      return constants::kKaonMass;
-    case 2212:
-      return constants::kProtonMass;
-    default:
-      return constants::kPionMass;
-  }
-}
-
 /// Crossing of the surface extended to infinity (cylinder in z, disk in
 /// r): a hit is on its layer even where the predicted track just misses
 /// the layer's edge.
@@ -167,14 +152,48 @@ struct KalmanFitter::Pass {
   std::uint32_t used = 0;
 };
 
+std::optional<double> massHypothesis(std::int32_t pdg) {
+  // Widened before the sign flip: -INT32_MIN does not fit an int32.
+  switch (std::abs(static_cast<std::int64_t>(pdg))) {
+    case 11:
+      return constants::kElectronMass;
+    case 13:
+      return constants::kMuonMass;
+    case 211:
+      return constants::kPionMass;
+    case 321:
+      return constants::kKaonMass;
+    case 2212:
+      return constants::kProtonMass;
+    default:
+      return std::nullopt;
+  }
+}
+
+const char* knownMassHypotheses() {
+  return "11, 13, 211, 321, 2212 and their negatives";
+}
+
+namespace {
+double requireMass(std::int32_t pdg) {
+  std::optional<double> mass = massHypothesis(pdg);
+  if (!mass) {
+    throw std::invalid_argument("KalmanFitter: unknown PDG code " +
+                                std::to_string(pdg) +
+                                " (known: " + knownMassHypotheses() + ")");
+  }
+  return *mass;
+}
+}  // namespace
+
 KalmanFitter::KalmanFitter(const Detector& detector)
     : KalmanFitter(detector, Config()) {}
 
 KalmanFitter::KalmanFitter(const Detector& detector, const Config& config)
     : m_config(config),
       m_bz(detector.bz()),
-      m_mass(massOfPdg(config.pdg)),
-      m_electron(std::abs(config.pdg) == 11),
+      m_mass(requireMass(config.pdg)),
+      m_electron(m_mass == constants::kElectronMass),
       m_detector(detector),
       m_navigator(detector) {
   if (m_bz == 0.0) {

@@ -46,6 +46,8 @@ class ConformalTrackFinder {
     FinderConfig chain;
   };
 
+  /// Throws std::invalid_argument if the chain is not valid for `detector`
+  /// (findChainProblem), naming the chain-file key of the problem.
   ConformalTrackFinder(const Detector& detector, Config config);
 
   /// Finds tracks among `hits`. The result does not depend on the order of

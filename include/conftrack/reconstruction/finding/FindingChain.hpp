@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -199,15 +200,37 @@ struct FinderConfig {
   /// track's momentum estimate) in its chi2 increments. A conftrack
   /// addition: upstream's conformal chi2 knows only the hit resolutions.
   bool scatteringAllowance = true;
-
-  /// Throws InputError naming the key of the first bad setting (a guard
-  /// of 0, a clone threshold of 0, a negative window).
-  void validate() const;
 };
 
-/// Reads and validates a chain file against a detector. Throws InputError
+/// A problem of a chain, named by the chain-file key it comes from, so that
+/// the reader of a file can point at the line and a chain built in code
+/// gets the same words.
+struct ChainProblem {
+  /// The step, or none for the [finder] settings and the chain as a whole.
+  std::optional<std::size_t> step;
+  /// The key: within the step's table for a step; "finder.<key>" for the
+  /// [finder] settings; "step" for the chain as a whole.
+  std::string key;
+  std::string what;
+  /// "key 'step[2].chi2_cut': what".
+  std::string describe() const;
+};
+
+/// The one validation of a chain, whether read from a file or built in
+/// code (ConformalTrackFinder's constructor runs it): subdetector indices
+/// of the detector, listed once, seed collections among the step's
+/// collections, a first step with collections, at least one action,
+/// unique non-empty step names, every cut in its range (in native units)
+/// and the helix action's required cuts. Returns the first problem, or
+/// nothing if the chain is valid.
+std::optional<ChainProblem> findChainProblem(const FinderConfig& config,
+                                             const Detector& detector);
+
+/// Reads and validates a chain file against a detector. Values are taken
+/// in the units their keys name (`_mm`, `_GeV`; angles in rad, conformal
+/// distances in 1/mm) and converted with Units.hpp. Throws InputError
 /// "file:line: key 'step[2].x': problem" for unknown keys, subdetectors the
-/// detector does not have and nonsense values.
+/// detector does not have and nonsense values (findChainProblem).
 FinderConfig readChain(const std::filesystem::path& file,
                        const Detector& detector);
 FinderConfig parseChain(std::string_view text, const std::string& sourceName,

@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -127,13 +128,25 @@ struct FittingResult {
 /// would be needed).
 ///
 /// Thread-safe: fit() and run() are const and keep no state.
+class KalmanFitter;
+
+/// Mass of the fit's particle hypothesis for a PDG code of either sign:
+/// 11 (electron), 13 (muon), 211 (pion), 321 (kaon), 2212 (proton); none
+/// for any other code (a mass the fitter would guess is a wrong fit).
+std::optional<double> massHypothesis(std::int32_t pdg);
+
+/// The PDG codes massHypothesis knows, for messages: "11, 13, 211, 321,
+/// 2212 and their negatives".
+const char* knownMassHypotheses();
+
 class KalmanFitter {
  public:
   /// Settings. Defaults follow upstream (algorithm.md 11.1) where it has
   /// an equivalent.
   struct Config {
     /// PDG code of the mass hypothesis: 211 (pion, default), 13, 11
-    /// (electron: Rossi-Greisen scattering), 321, 2212; others: pion mass.
+    /// (electron: Rossi-Greisen scattering), 321, 2212, of either sign;
+    /// others are rejected by the constructor (massHypothesis).
     std::int32_t pdg = 211;
     /// Multiple scattering as process noise.
     bool multipleScattering = true;

@@ -1,0 +1,217 @@
+// The one validation of a finding chain (FindingChain.hpp): the chain-file
+// reader fills a FinderConfig and runs it, and so does the finder's
+// constructor for chains built in code. Problems name the chain-file key
+// they come from; values are compared in the units the key names.
+
+#include "conftrack/core/ConfigTable.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace conftrack {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Angles up to pi (the files' bound, rounded down so that a typed "pi"
+/// passes).
+constexpr double kMaxAngle = 3.14159;
+
+/// A native value checked against a range given in the key's unit.
+struct Quantity {
+  const char* key;
+  double value;  ///< native units
+  double unit;   ///< the key's unit in native units
+  Range range;   ///< in the key's unit
+};
+
+std::optional<std::string> firstViolation(std::initializer_list<Quantity> qs,
+                                          std::string& key) {
+  for (const Quantity& q : qs) {
+    std::string problem = rangeViolation(q.value / q.unit, q.range);
+    if (!problem.empty()) {
+      key = q.key;
+      return problem;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string subdetectorName(const Detector& detector, std::uint16_t index) {
+  return index < detector.subdetectors().size()
+             ? "'" + detector.subdetectors()[index].name + "'"
+             : std::to_string(index);
+}
+
+std::optional<ChainProblem> findStepProblem(const FindingStep& s,
+                                            std::size_t index,
+                                            const Detector& detector) {
+  auto problem = [&](std::string key, std::string what) {
+    return ChainProblem{index, std::move(key), std::move(what)};
+  };
+  if (s.name.empty()) {
+    return problem("name", "must not be empty");
+  }
+  const std::size_t nSub = detector.subdetectors().size();
+  for (std::size_t i = 0; i < s.collections.size(); ++i) {
+    if (s.collections[i] >= nSub) {
+      return problem("collections",
+                     "subdetector index " + std::to_string(s.collections[i]) +
+                         " is not one of the " + std::to_string(nSub) +
+                         " subdetectors of detector '" + detector.name() + "'");
+    }
+    if (std::find(s.collections.begin(), s.collections.begin() + i,
+                  s.collections[i]) != s.collections.begin() + i) {
+      return problem("collections",
+                     "subdetector " +
+                         subdetectorName(detector, s.collections[i]) +
+                         " listed twice");
+    }
+  }
+  for (std::size_t i = 0; i < s.seedCollections.size(); ++i) {
+    const std::uint16_t sub = s.seedCollections[i];
+    if (sub >= nSub) {
+      return problem("seed_collections",
+                     "subdetector index " + std::to_string(sub) +
+                         " is not one of the " + std::to_string(nSub) +
+                         " subdetectors of detector '" + detector.name() + "'");
+    }
+    if (std::find(s.seedCollections.begin(), s.seedCollections.begin() + i,
+                  sub) != s.seedCollections.begin() + i) {
+      return problem(
+          "seed_collections",
+          "subdetector " + subdetectorName(detector, sub) + " listed twice");
+    }
+    if (!s.collections.empty() &&
+        std::find(s.collections.begin(), s.collections.end(), sub) ==
+            s.collections.end()) {
+      return problem("seed_collections",
+                     "subdetector " + subdetectorName(detector, sub) +
+                         " is not among the step's collections");
+    }
+  }
+  if (index == 0 && s.collections.empty()) {
+    return problem("collections",
+                   "the first step must name its collections (an empty list "
+                   "reuses the previous step's hits)");
+  }
+  if (!s.build && !s.extend && !s.sort && !s.helix) {
+    return problem(
+        "actions",
+        "at least one of \"build\", \"extend\", \"sort\", \"helix\"");
+  }
+  using units::GeV;
+  using units::mm;
+  using units::rad;
+  const double perMm = 1.0 / units::mm;  // conformal distances
+  const double one = 1.0;                // dimensionless
+  std::string key;
+  if (auto what = firstViolation(
+          {
+              {"max_cell_angle", s.maxCellAngle, rad,
+               Range{0.0, kMaxAngle, false, true}},
+              {"max_cell_angle_rz", s.maxCellAngleRZ, rad,
+               Range{0.0, kMaxAngle, false, true}},
+              {"chi2_cut", s.chi2Cut, one, Range::positiveFinite()},
+              {"chi2_cut_pt_scale_GeV", s.chi2PtScale, GeV,
+               Range{0.0, kInf, true, false}},
+              {"min_hits", static_cast<double>(s.minHits), one,
+               Range::closed(3, 100)},
+              {"max_distance", s.maxDistance, perMm,
+               Range{0.0, 1.0, false, true}},
+              {"slope_z_range", s.slopeZRange, one, Range::positiveFinite()},
+              {"high_pt_cut_GeV", s.highPtCut, GeV,
+               Range{0.0, kInf, true, false}},
+              {"max_seed_dphi", s.maxSeedDeltaPhi, rad,
+               Range{0.0, 3.15, false, true}},
+              // Infinity: no cut.
+              {"max_seed_z0_mm", s.maxSeedZ0, mm, Range::positive()},
+              {"max_seed_length_mm", s.maxSeedLength, mm, Range::positive()},
+              {"max_seed_cells", static_cast<double>(s.maxSeedCells), one,
+               Range::closed(0, 1e6)},
+              // 0: only the finder's max_paths_per_seed.
+              {"max_paths", static_cast<double>(s.maxPaths), one,
+               Range::closed(0, 1e9)},
+              {"min_pt_GeV", s.minPt, GeV, Range{0.0, kInf, true, false}},
+              {"max_d0_mm", s.maxD0, mm, Range::positive()},
+              {"max_missed_layers", static_cast<double>(s.maxMissedLayers), one,
+               Range::closed(0, 10)},
+          },
+          key)) {
+    return problem(key, *what);
+  }
+  if (s.helix && !std::isfinite(s.maxSeedLength)) {
+    return problem("max_seed_length_mm",
+                   "required by the \"helix\" action (it bounds the seed "
+                   "search)");
+  }
+  if (s.helix && !(s.minPt > 0.0)) {
+    return problem("min_pt_GeV", "required by the \"helix\" action (> 0)");
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string ChainProblem::describe() const {
+  std::string name = step ? "step[" + std::to_string(*step) + "]." + key : key;
+  return "key '" + name + "': " + what;
+}
+
+std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
+                                             const Detector& detector) {
+  using units::rad;
+  const double one = 1.0;
+  std::string key;
+  if (auto what = firstViolation(
+          {
+              {"theta_range", c.thetaRange, rad,
+               Range{0.0, kMaxAngle, false, true}},
+              {"clone_shared_hits", static_cast<double>(c.cloneSharedHits), one,
+               Range::closed(1, 100)},
+              {"max_paths_per_seed", static_cast<double>(c.maxPathsPerSeed),
+               one, Range::closed(1, 1e9)},
+              {"max_cells_per_seed", static_cast<double>(c.maxCellsPerSeed),
+               one, Range::closed(1, 1e9)},
+              {"max_seed_neighbours", static_cast<double>(c.maxSeedNeighbours),
+               one, Range::closed(1, 1e9)},
+              {"max_cell_neighbours", static_cast<double>(c.maxCellNeighbours),
+               one, Range::closed(1, 1e9)},
+              {"max_leaves_per_seed", static_cast<double>(c.maxLeavesPerSeed),
+               one, Range::closed(1, 1e9)},
+              {"max_cells_per_hit", static_cast<double>(c.maxCellsPerHit), one,
+               Range::closed(1, 1e9)},
+              {"max_window_hits", static_cast<double>(c.maxWindowHits), one,
+               Range::closed(1, 1e9)},
+              {"max_cached_cells", static_cast<double>(c.maxCachedCells), one,
+               Range::closed(1000, 1e9)},
+              {"extension_phi_window", c.extensionPhiWindow, rad,
+               Range{0.0, kMaxAngle, false, true}},
+              {"extension_lookahead", static_cast<double>(c.extensionLookahead),
+               one, Range::closed(0, 5)},
+          },
+          key)) {
+    return ChainProblem{std::nullopt, "finder." + key, *what};
+  }
+  if (c.steps.empty()) {
+    return ChainProblem{std::nullopt, "step",
+                        "missing: a chain needs at least one [[step]]"};
+  }
+  for (std::size_t i = 0; i < c.steps.size(); ++i) {
+    if (auto p = findStepProblem(c.steps[i], i, detector)) {
+      return p;
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (c.steps[j].name == c.steps[i].name) {
+        return ChainProblem{i, "name",
+                            "duplicate step name '" + c.steps[i].name + "'"};
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace conftrack

@@ -1,0 +1,72 @@
+/// @file HepMCReaderCrashTests.cpp
+/// Input that crashes the HepMC3 3.1.2 reader, found by fuzzing
+/// (docs/fuzzing.md), is refused by the validator with its line: attribute
+/// names that overflow the reader's fixed buffer, and fields ending with an
+/// escaping backslash (the reader's unescape() runs past the string's end).
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/simulation/generators/HepMC3Generator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace conftrack {
+namespace {
+
+const std::string kHead =
+    "HepMC::Version 3.02.01\nHepMC::Asciiv3-START_EVENT_LISTING\n"
+    "W Weight\n";
+const std::string kEvent =
+    "E 0 1 3\nU GEV MM\nW 1.0\n"
+    "P 1 0 2212 0 0 7000 7000 0.938 4\n"
+    "V -1 0 [1]\n"
+    "P 2 -1 211 1.0 0 0 1.0096 0.1396 1\n"
+    "P 3 -1 -211 0 2 0 2.005 0.1396 1\n";
+const std::string kTail = "HepMC::Asciiv3-END_EVENT_LISTING\n";
+
+std::string errorOf(const std::string& text) {
+  try {
+    readHepMCEvents(text, "a.hepmc");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(HepMCAttributes, NamesUpTo63CharactersAreRead) {
+  ASSERT_EQ(errorOf(kHead + kEvent + kTail), "(accepted)");
+  EXPECT_EQ(errorOf(kHead + "A " + std::string(63, 'r') + " 1\n" + kEvent +
+                    "A 0 " + std::string(63, 'e') + " 2\n" + kTail),
+            "(accepted)");
+}
+
+TEST(HepMCAttributes, LongerNamesAreRefusedWithTheirLine) {
+  EXPECT_EQ(
+      errorOf(kHead + "A " + std::string(64, 'r') + " 1\n" + kEvent + kTail),
+      "a.hepmc:4: attribute name longer than 63 characters");
+  EXPECT_EQ(
+      errorOf(kHead + kEvent + "A 0 " + std::string(100, 'e') + " 2\n" + kTail),
+      "a.hepmc:11: attribute name longer than 63 characters");
+}
+
+TEST(HepMCEscapes, FieldEndingWithBackslashIsRefused) {
+  const std::string expected =
+      "a field ends with an escaping backslash (crashes the HepMC3 3.1.2 "
+      "reader)";
+  EXPECT_EQ(errorOf("HepMC::Version 3.02.01\nHepMC::Asciiv3-START_EVENT_"
+                    "LISTING\nW Weight\\\n" +
+                    kEvent + kTail),
+            "a.hepmc:3: " + expected);
+  EXPECT_EQ(errorOf(kHead + "T Pythia8 8.3 a\\\\\\\t\n" + kEvent + kTail),
+            "a.hepmc:4: " + expected);
+  EXPECT_EQ(errorOf(kHead + kEvent + "A 0 note x\\ y\n" + kTail),
+            "a.hepmc:11: " + expected);
+  // An escaped backslash is a field's last character legitimately.
+  EXPECT_EQ(errorOf(kHead + "T Pythia8 8.3 a\\\\\n" + kEvent +
+                    "A 0 note x\\\\ y\\|z\n" + kTail),
+            "(accepted)");
+}
+
+}  // namespace
+}  // namespace conftrack
