@@ -10,21 +10,6 @@
 
 namespace conftrack {
 
-StepStats& StepStats::operator+=(const StepStats& o) {
-  seeds += o.seeds;
-  cells += o.cells;
-  paths += o.paths;
-  candidates += o.candidates;
-  accepted += o.accepted;
-  extendedHits += o.extendedHits;
-  hitsUsed += o.hitsUsed;
-  pathOverflows += o.pathOverflows;
-  cellOverflows += o.cellOverflows;
-  recovered += o.recovered;
-  milliseconds += o.milliseconds;
-  return *this;
-}
-
 Track toTrack(const FoundTrack& found) {
   Track t;
   t.hits = found.hits;
