@@ -131,7 +131,10 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
 FinderConfig parseChain(std::string_view text, const std::string& sourceName,
                         const Detector& detector) {
   std::shared_ptr<toml::table> table = ConfigTable::parse(text, sourceName);
-  ConfigTable root(*table, sourceName, "");
+  return readChainTable(ConfigTable(*table, sourceName, ""), detector);
+}
+
+FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
   FinderConfig cfg;
   std::optional<ConfigTable> finder = root.findTable("finder");
   if (finder) {

@@ -16,6 +16,8 @@
 
 namespace conftrack {
 
+class ConfigTable;
+
 /// Direction in which a step seeds and extends (upstream VertexToTracker).
 enum class SearchDirection : std::uint8_t {
   eInsideOut,  ///< seed innermost, grow outwards (prompt tracks)
@@ -235,6 +237,9 @@ FinderConfig readChain(const std::filesystem::path& file,
                        const Detector& detector);
 FinderConfig parseChain(std::string_view text, const std::string& sourceName,
                         const Detector& detector);
+/// parseChain on a parsed chain file (its root table): one parse, read
+/// against several detectors.
+FinderConfig readChainTable(const ConfigTable& root, const Detector& detector);
 
 /// Resolves a chain argument: a path, or a shipped chain name ("clicdet")
 /// in the chains/ folder.
