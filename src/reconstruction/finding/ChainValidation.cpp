@@ -19,6 +19,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Angles up to pi (the files' bound, rounded down so that a typed "pi"
 /// passes).
 constexpr double kMaxAngle = 3.14159;
+/// Guards may be switched off in code with the largest count.
+constexpr double kMaxCount = std::numeric_limits<std::uint32_t>::max();
 
 /// A native value checked against a range given in the key's unit.
 struct Quantity {
@@ -134,7 +136,7 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
                Range::closed(0, 1e6)},
               // 0: only the finder's max_paths_per_seed.
               {"max_paths", static_cast<double>(s.maxPaths), one,
-               Range::closed(0, 1e9)},
+               Range::closed(0, kMaxCount)},
               {"min_pt_GeV", s.minPt, GeV, Range{0.0, kInf, true, false}},
               {"max_d0_mm", s.maxD0, mm, Range::positive()},
               {"max_missed_layers", static_cast<double>(s.maxMissedLayers), one,
@@ -173,21 +175,21 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
               {"clone_shared_hits", static_cast<double>(c.cloneSharedHits), one,
                Range::closed(1, 100)},
               {"max_paths_per_seed", static_cast<double>(c.maxPathsPerSeed),
-               one, Range::closed(1, 1e9)},
+               one, Range::closed(1, kMaxCount)},
               {"max_cells_per_seed", static_cast<double>(c.maxCellsPerSeed),
-               one, Range::closed(1, 1e9)},
+               one, Range::closed(1, kMaxCount)},
               {"max_seed_neighbours", static_cast<double>(c.maxSeedNeighbours),
-               one, Range::closed(1, 1e9)},
+               one, Range::closed(1, kMaxCount)},
               {"max_cell_neighbours", static_cast<double>(c.maxCellNeighbours),
-               one, Range::closed(1, 1e9)},
+               one, Range::closed(1, kMaxCount)},
               {"max_leaves_per_seed", static_cast<double>(c.maxLeavesPerSeed),
-               one, Range::closed(1, 1e9)},
+               one, Range::closed(1, kMaxCount)},
               {"max_cells_per_hit", static_cast<double>(c.maxCellsPerHit), one,
-               Range::closed(1, 1e9)},
+               Range::closed(1, kMaxCount)},
               {"max_window_hits", static_cast<double>(c.maxWindowHits), one,
-               Range::closed(1, 1e9)},
+               Range::closed(1, kMaxCount)},
               {"max_cached_cells", static_cast<double>(c.maxCachedCells), one,
-               Range::closed(1000, 1e9)},
+               Range::closed(1000, kMaxCount)},
               {"extension_phi_window", c.extensionPhiWindow, rad,
                Range{0.0, kMaxAngle, false, true}},
               {"extension_lookahead", static_cast<double>(c.extensionLookahead),
