@@ -147,7 +147,8 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         count(f, "max_seed_neighbours", cfg.maxSeedNeighbours);
     cfg.maxCellNeighbours =
         count(f, "max_cell_neighbours", cfg.maxCellNeighbours);
-    cfg.maxLeavesPerSeed = count(f, "max_leaves_per_seed", cfg.maxLeavesPerSeed);
+    cfg.maxLeavesPerSeed =
+        count(f, "max_leaves_per_seed", cfg.maxLeavesPerSeed);
     cfg.maxCellsPerHit = count(f, "max_cells_per_hit", cfg.maxCellsPerHit);
     cfg.maxWindowHits = count(f, "max_window_hits", cfg.maxWindowHits);
     cfg.maxCachedCells = count(f, "max_cached_cells", cfg.maxCachedCells);
