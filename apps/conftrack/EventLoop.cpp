@@ -106,6 +106,20 @@ std::vector<std::uint64_t> requireEvents(const std::string& dir) {
   return events;
 }
 
+std::vector<std::uint64_t> selectEvents(
+    const std::string& dir, const std::vector<std::uint64_t>& requested) {
+  std::vector<std::uint64_t> available = requireEvents(dir);
+  if (requested.empty()) {
+    return available;
+  }
+  for (std::uint64_t n : requested) {
+    if (!std::binary_search(available.begin(), available.end(), n)) {
+      throw InputError(dir, "no hits file of event " + std::to_string(n));
+    }
+  }
+  return requested;
+}
+
 std::size_t effectiveThreads(std::size_t threads) {
   if (threads > 0) {
     return threads;

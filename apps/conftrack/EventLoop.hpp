@@ -47,6 +47,11 @@ void forEachEvent(std::size_t n, std::size_t threads, const std::string& label,
 /// The event numbers in a folder of event files; InputError if none.
 std::vector<std::uint64_t> requireEvents(const std::string& dir);
 
+/// `requested` if given (each must be in `dir`, else InputError), else every
+/// event of `dir` (requireEvents).
+std::vector<std::uint64_t> selectEvents(
+    const std::string& dir, const std::vector<std::uint64_t>& requested);
+
 /// Number of threads `threads` stands for (0: hardware concurrency).
 std::size_t effectiveThreads(std::size_t threads);
 

@@ -37,14 +37,7 @@ struct OverlayOptions {
 void runOverlay(const OverlayOptions& opt) {
   opt.overlay.validate();
   Detector detector = loadDetector(opt.detector);
-  std::vector<std::uint64_t> available = requireEvents(opt.input);
-  std::vector<std::uint64_t> numbers =
-      opt.events.empty() ? available : opt.events;
-  for (std::uint64_t n : numbers) {
-    if (!std::binary_search(available.begin(), available.end(), n)) {
-      throw InputError(opt.input, "no hits file of event " + std::to_string(n));
-    }
-  }
+  std::vector<std::uint64_t> numbers = selectEvents(opt.input, opt.events);
   std::vector<Event> inputs;
   inputs.reserve(numbers.size());
   for (std::uint64_t n : numbers) {

@@ -1,20 +1,27 @@
-// TrackML commands: score submissions, and make TrackML-like events with
-// truth from real particle files.
+// TrackML commands: score submissions, make TrackML-like events with truth
+// from real particle files, and compare such a simulation with the real
+// files (validate-trackml).
 
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/evaluation/SimulationValidation.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
 #include "conftrack/io/TextFile.hpp"
+#include "conftrack/io/TrackmlIds.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
 #include "conftrack/simulation/TrackmlEvents.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <optional>
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
@@ -72,30 +79,198 @@ struct TrackmlSimOptions {
   std::size_t threads = 0;
 };
 
+/// The TrackML detector and module map from detectors.csv, and the
+/// simulation of real particle lists on it.
+struct TrackmlSimulationSetup {
+  explicit TrackmlSimulationSetup(const TrackmlSimOptions& opt)
+      : modules(parseTrackmlModules(readTextFile(opt.detectorsCsv),
+                                    opt.detectorsCsv)),
+        detector(buildTrackmlDetector(modules, detectorOptions(opt))),
+        map(modules),
+        simulation(detector, &map, simulationConfig(opt)) {}
+
+  static TrackmlDetectorOptions detectorOptions(const TrackmlSimOptions& opt) {
+    TrackmlDetectorOptions options;
+    options.source = opt.detectorsCsv;
+    return options;
+  }
+  static TrackmlEventSimulation::Config simulationConfig(
+      const TrackmlSimOptions& opt) {
+    TrackmlEventSimulation::Config cfg;
+    cfg.noiseFraction = opt.noise;
+    cfg.minPt = opt.minPt;
+    cfg.seed = opt.seed;
+    return cfg;
+  }
+
+  /// The real event's particles (with their real nhits) and hits (raw
+  /// ids), and the simulation of those particles.
+  struct EventPair {
+    Event real;
+    Event simulated;
+  };
+  EventPair simulate(const std::string& dir, std::uint64_t number) const {
+    EventPair pair;
+    pair.real = readEvent(dir, number, nullptr, ReadOptions{false, true});
+    if (pair.real.particles.empty()) {
+      throw InputError(
+          dir, "event " + std::to_string(number) + " has no particles file");
+    }
+    pair.simulated = simulation.simulate(number, pair.real.particles);
+    return pair;
+  }
+
+  std::vector<TrackmlModule> modules;
+  Detector detector;
+  TrackmlModuleMap map;
+  TrackmlEventSimulation simulation;
+};
+
 void runTrackmlSim(const TrackmlSimOptions& opt) {
-  std::vector<TrackmlModule> modules =
-      parseTrackmlModules(readTextFile(opt.detectorsCsv), opt.detectorsCsv);
-  TrackmlDetectorOptions detOptions;
-  detOptions.source = opt.detectorsCsv;
-  Detector detector = buildTrackmlDetector(modules, detOptions);
-  TrackmlModuleMap map(modules);
-  TrackmlEventSimulation::Config cfg;
-  cfg.noiseFraction = opt.noise;
-  cfg.minPt = opt.minPt;
-  cfg.seed = opt.seed;
-  TrackmlEventSimulation sim(detector, &map, cfg);
+  const TrackmlSimulationSetup setup(opt);
   std::vector<std::uint64_t> numbers = requireEvents(opt.input);
   prepareOutputFolder(opt.output, "-o");
   forEachEvent(numbers.size(), opt.threads, "simulate", [&](std::size_t i) {
-    Event real =
-        readEvent(opt.input, numbers[i], nullptr, ReadOptions{false, true});
-    if (real.particles.empty()) {
-      throw InputError(opt.input, "event " + std::to_string(numbers[i]) +
-                                      " has no particles file");
-    }
-    Event event = sim.simulate(numbers[i], real.particles);
-    writeEvent(opt.output, event, &detector, {});
+    writeEvent(opt.output, setup.simulate(opt.input, numbers[i]).simulated,
+               &setup.detector, {});
   });
+}
+
+struct ValidateOptions {
+  TrackmlSimOptions sim;
+  std::vector<std::uint64_t> events;
+  std::size_t minParticles = 100;
+  double tolerance = 0.05;
+  std::string output;
+};
+
+std::string formatEdge(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, std::isinf(value) ? "inf" : "%g", value);
+  return text;
+}
+
+std::string formatDeviation(double deviation) {
+  if (std::isnan(deviation)) {
+    return "-";
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, "%+.1f %%", 100.0 * deviation);
+  return text;
+}
+
+void printValidation(const SimulationValidationTables& t,
+                     const ValidateOptions& opt) {
+  std::printf(
+      "Hits per particle, real (nhits column) and simulated, %zu events, "
+      "%zu particles (%zu outside the table):\n",
+      t.events, t.particles, t.outsideBins);
+  std::printf("%-12s %-10s %-9s %9s %8s %9s %10s\n", "pT [GeV]", "|eta|",
+              "origin", "particles", "real", "simulated", "deviation");
+  for (const HitCountBin& b : t.bins) {
+    if (b.particles == 0) {
+      continue;
+    }
+    const std::string pt = formatEdge(b.ptMin) + "-" + formatEdge(b.ptMax);
+    const std::string eta =
+        formatEdge(b.absEtaMin) + "-" + formatEdge(b.absEtaMax);
+    std::printf("%-12s %-10s %-9s %9zu %8.2f %9.2f %10s%s\n", pt.c_str(),
+                eta.c_str(), b.displaced ? "displaced" : "prompt", b.particles,
+                b.realMean(), b.simulatedMean(),
+                formatDeviation(b.deviation()).c_str(),
+                b.particles >= opt.minParticles ? "" : "  (few)");
+  }
+  const BinAgreement agreement =
+      binAgreement(t, opt.minParticles, opt.tolerance);
+  std::printf(
+      "Bins with >= %zu particles: %zu, within %.1f %%: %zu; worst %s\n\n",
+      opt.minParticles, agreement.bins, 100.0 * opt.tolerance, agreement.within,
+      formatDeviation(agreement.worst).c_str());
+  std::printf(
+      "Hits per (volume, layer), real and simulated (noise fraction %.2f "
+      "included):\n",
+      opt.sim.noise);
+  std::printf("%6s %6s %9s %9s %10s\n", "volume", "layer", "real", "simulated",
+              "deviation");
+  for (const LayerHitCount& l : t.layers) {
+    const double deviation =
+        l.real > 0
+            ? static_cast<double>(l.simulated) / static_cast<double>(l.real) -
+                  1.0
+            : std::numeric_limits<double>::quiet_NaN();
+    std::printf("%6u %6u %9zu %9zu %10s\n", l.id.volume, l.id.layer, l.real,
+                l.simulated, formatDeviation(deviation).c_str());
+  }
+}
+
+void writeValidation(const SimulationValidationTables& t,
+                     const std::string& folder) {
+  const std::filesystem::path dir(folder);
+  CsvWriter bins((dir / "hit_counts.csv").string(),
+                 {"pt_min_GeV", "pt_max_GeV", "abs_eta_min", "abs_eta_max",
+                  "displaced", "particles", "real_mean", "simulated_mean"});
+  for (const HitCountBin& b : t.bins) {
+    bins.add(b.ptMin);
+    // CSV numbers are finite: an open last edge is written as -1.
+    bins.add(std::isinf(b.ptMax) ? -1.0 : b.ptMax);
+    bins.add(b.absEtaMin);
+    bins.add(b.absEtaMax);
+    bins.add(b.displaced ? 1 : 0);
+    bins.add(b.particles);
+    bins.add(b.realMean());
+    bins.add(b.simulatedMean());
+    bins.endRow();
+  }
+  bins.write(dir / "hit_counts.csv", false);
+  CsvWriter layers((dir / "layer_hits.csv").string(),
+                   {"volume_id", "layer_id", "real_hits", "simulated_hits"});
+  for (const LayerHitCount& l : t.layers) {
+    layers.add(l.id.volume);
+    layers.add(l.id.layer);
+    layers.add(l.real);
+    layers.add(l.simulated);
+    layers.endRow();
+  }
+  layers.write(dir / "layer_hits.csv", false);
+}
+
+void runValidate(const ValidateOptions& opt) {
+  const std::vector<std::uint64_t> numbers =
+      selectEvents(opt.sim.input, opt.events);
+  if (!opt.output.empty()) {
+    prepareOutputFolder(opt.output, "-o");
+  }
+  const TrackmlSimulationSetup setup(opt.sim);
+  const SimulationValidation validation(SimulationValidation::Config{});
+  std::vector<SimulationValidationTables> perEvent(numbers.size());
+  forEachEvent(numbers.size(), opt.sim.threads, "validate", [&](std::size_t i) {
+    const auto pair = setup.simulate(opt.sim.input, numbers[i]);
+    std::vector<VolumeLayer> realHits;
+    realHits.reserve(pair.real.hits.size());
+    for (const Hit& h : pair.real.hits) {
+      // Raw ids (no detector): subdetector = volume_id.
+      realHits.push_back({h.detId.subdetector, h.detId.layer});
+    }
+    std::vector<VolumeLayer> simulatedHits;
+    simulatedHits.reserve(pair.simulated.hits.size());
+    for (const Hit& h : pair.simulated.hits) {
+      const std::optional<TrackmlId> id = toTrackml(h.detId, &setup.detector);
+      if (id) {
+        simulatedHits.push_back({id->volume, id->layer});
+      }
+    }
+    perEvent[i] = validation.run({pair.real.particles, pair.simulated.particles,
+                                  realHits, simulatedHits});
+  });
+  // Summed in event order: the same tables for any thread count.
+  SimulationValidationTables total = validation.empty();
+  for (const SimulationValidationTables& t : perEvent) {
+    total.merge(t);
+  }
+  printValidation(total, opt);
+  if (!opt.output.empty()) {
+    writeValidation(total, opt.output);
+  }
 }
 
 }  // namespace
@@ -139,6 +314,44 @@ void addTrackmlCommands(CLI::App& app) {
       ->check(wholeNumber(0, UINT64_MAX));
   addThreadsOption(*s, sim->threads);
   s->callback([sim]() { runTrackmlSim(*sim); });
+
+  auto val = std::make_shared<ValidateOptions>();
+  CLI::App* v = app.add_subcommand(
+      "validate-trackml",
+      "Simulate the particles of real TrackML events and compare with the "
+      "real files: mean hits per particle (nhits) in pT x |eta| x production "
+      "radius bins, hits per (volume, layer)");
+  v->add_option("-i,--input", val->sim.input,
+                "Folder with real TrackML events (hits and particles files)")
+      ->required();
+  v->add_option("--events", val->events,
+                "Event numbers (default: all in the folder)");
+  v->add_option("-o,--output", val->output,
+                "Folder for hit_counts.csv and layer_hits.csv (default: "
+                "print only)");
+  v->add_option("--detectors-csv", val->sim.detectorsCsv,
+                "The TrackML detectors.csv(.gz)")
+      ->capture_default_str();
+  v->add_option("--noise", val->sim.noise, "Fraction of noise hits per layer")
+      ->capture_default_str()
+      ->check(finiteNumber(0.0, 0.99));
+  v->add_option("--min-pt", val->sim.minPt,
+                "Particles below this pT [GeV] are not simulated")
+      ->capture_default_str()
+      ->check(finiteNumber(0.0, 1e6));
+  v->add_option("--seed", val->sim.seed, "Run seed")
+      ->capture_default_str()
+      ->check(wholeNumber(0, UINT64_MAX));
+  v->add_option("--min-particles", val->minParticles,
+                "Bins with fewer particles are marked (few)")
+      ->capture_default_str()
+      ->check(wholeNumber(1, 1e9));
+  v->add_option("--tolerance", val->tolerance,
+                "Relative deviation counted as agreement")
+      ->capture_default_str()
+      ->check(finiteNumber(0.0, 10.0));
+  addThreadsOption(*v, val->sim.threads);
+  v->callback([val]() { runValidate(*val); });
 }
 
 }  // namespace conftrack::cli

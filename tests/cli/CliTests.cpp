@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -131,6 +132,54 @@ TEST(Cli, DetectorShowListsEveryLayer) {
   }
   EXPECT_NE(text.find("31.165"), std::string::npos);
   EXPECT_NE(text.find("1487.851"), std::string::npos);
+}
+
+TEST(Cli, ValidateTrackmlComparesWithTheRealFiles) {
+  const fs::path out = tempDir("validate");
+  const fs::path printed = fs::path(::testing::TempDir()) / "validate.txt";
+  const fs::path repo = fs::path(CONFTRACK_TEST_DATA_DIR).parent_path();
+  const std::string cmd =
+      std::string(CONFTRACK_BINARY) + " validate-trackml -i " +
+      (repo / "data/trackml/train_100_events_no_truth").string() +
+      " --events 1001 -o " + out.string() + " > " + printed.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const std::string text = slurp(printed);
+  EXPECT_NE(text.find("Bins with >= 100 particles:"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("Hits per (volume, layer)"), std::string::npos);
+
+  // 4 pT x 8 |eta| x prompt/displaced bins, and every real hit of event
+  // 1001 (93,680) in the layer table.
+  std::ifstream bins(out / "hit_counts.csv");
+  std::string line;
+  std::size_t rows = 0;
+  std::getline(bins, line);
+  EXPECT_EQ(line.rfind("pt_min_GeV,pt_max_GeV,abs_eta_min", 0), 0u) << line;
+  while (std::getline(bins, line)) {
+    ++rows;
+  }
+  EXPECT_EQ(rows, 64u);
+  std::ifstream layers(out / "layer_hits.csv");
+  std::getline(layers, line);
+  ASSERT_EQ(line, "volume_id,layer_id,real_hits,simulated_hits");
+  std::size_t realHits = 0;
+  std::size_t simulatedHits = 0;
+  std::size_t layerRows = 0;
+  while (std::getline(layers, line)) {
+    std::stringstream row(line);
+    std::string field;
+    std::vector<std::size_t> values;
+    while (std::getline(row, field, ',')) {
+      values.push_back(std::stoull(field));
+    }
+    ASSERT_EQ(values.size(), 4u) << line;
+    realHits += values[2];
+    simulatedHits += values[3];
+    ++layerRows;
+  }
+  EXPECT_EQ(realHits, 93680u);
+  EXPECT_GT(simulatedHits, 50000u);
+  EXPECT_EQ(layerRows, 48u);  // the TrackML detector's layers
 }
 
 }  // namespace

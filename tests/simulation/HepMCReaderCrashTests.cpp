@@ -2,7 +2,8 @@
 /// Input that crashes the HepMC3 3.1.2 reader, found by fuzzing
 /// (docs/fuzzing.md), is refused by the validator with its line: attribute
 /// names that overflow the reader's fixed buffer, and fields ending with an
-/// escaping backslash (the reader's unescape() runs past the string's end).
+/// escaping backslash (the reader's unescape() runs past the string's end),
+/// and numeric records with repeated spaces (the reader's fields shift).
 
 #include "conftrack/core/Error.hpp"
 #include "conftrack/simulation/generators/HepMC3Generator.hpp"
@@ -66,6 +67,33 @@ TEST(HepMCEscapes, FieldEndingWithBackslashIsRefused) {
   EXPECT_EQ(errorOf(kHead + "T Pythia8 8.3 a\\\\\n" + kEvent +
                     "A 0 note x\\\\ y\\|z\n" + kTail),
             "(accepted)");
+}
+
+TEST(HepMCSpaces, RepeatedSpacesInNumericRecordsAreRefused) {
+  const std::string expected =
+      "fields must be separated by single spaces (the HepMC3 3.1.2 reader "
+      "reads a repeated space or a tab as an extra field)";
+  // Asciiv3: a vertex line with a double space (line 8).
+  std::string event = kEvent;
+  event.replace(event.find("V -1"), 4, "V  -1");
+  EXPECT_EQ(errorOf(kHead + event + kTail), "a.hepmc:8: " + expected);
+  // A tab in a particle line.
+  event = kEvent;
+  event.replace(event.find("P 2 -1"), 6, "P 2\t-1");
+  EXPECT_EQ(errorOf(kHead + event + kTail), "a.hepmc:9: " + expected);
+  // IO_GenEvent, the fuzzer's input: "VC  -1 ..." read by HepMC3 as a
+  // vertex with other counts, then a null vertex (SEGV).
+  const std::string ioGenEvent =
+      "HepMC::Version 2.06.09\nHepMC::IO_GenEvent-START_EVENT_LISTING\n"
+      "E 1 -1 -1 -1 -1 0 0 2 1 2 0 1 1.0\nU MEV CM\n"
+      "V  -1 0 0 0 0 0 2 1 0\n"
+      "P 1 11 0 0 1000 1000 0.511 4 0 0 -1 0\n"
+      "P 2 -11 0 0 -1000 1000 0.511 4 0 0 -1 0\n"
+      "P 3 23 0 0 0 2000 2000 2 0 0 0 0\n"
+      "HepMC::IO_GenEvent-END_EVENT_LISTING\n";
+  EXPECT_EQ(errorOf(ioGenEvent), "a.hepmc:5: " + expected);
+  // Repeated spaces inside the quoted weight names of an N line stay
+  // legal (the shipped inputConvert1.hepmc has them: HepMCSharedFiles).
 }
 
 }  // namespace
