@@ -24,10 +24,10 @@ constexpr double kMaxCount = std::numeric_limits<std::uint32_t>::max();
 
 /// A native value checked against a range given in the key's unit.
 struct Quantity {
-  const char* key;
-  double value;  ///< native units
-  double unit;   ///< the key's unit in native units
-  Range range;   ///< in the key's unit
+  const char* key = nullptr;
+  double value = 0.0;  ///< native units
+  double unit = 1.0;   ///< the key's unit in native units
+  Range range;         ///< in the key's unit
 };
 
 std::optional<std::string> firstViolation(std::initializer_list<Quantity> qs,
