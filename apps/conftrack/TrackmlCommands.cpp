@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <memory>
 #include <optional>
 
@@ -193,13 +192,8 @@ void printValidation(const SimulationValidationTables& t,
   std::printf("%6s %6s %9s %9s %10s\n", "volume", "layer", "real", "simulated",
               "deviation");
   for (const LayerHitCount& l : t.layers) {
-    const double deviation =
-        l.real > 0
-            ? static_cast<double>(l.simulated) / static_cast<double>(l.real) -
-                  1.0
-            : std::numeric_limits<double>::quiet_NaN();
     std::printf("%6u %6u %9zu %9zu %10s\n", l.id.volume, l.id.layer, l.real,
-                l.simulated, formatDeviation(deviation).c_str());
+                l.simulated, formatDeviation(l.deviation()).c_str());
   }
 }
 

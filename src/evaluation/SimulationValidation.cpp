@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +62,12 @@ double HitCountBin::simulatedMean() const {
 double HitCountBin::deviation() const {
   return realHits > 0.0 ? simulatedHits / realHits - 1.0
                         : std::numeric_limits<double>::quiet_NaN();
+}
+
+double LayerHitCount::deviation() const {
+  return real > 0
+             ? static_cast<double>(simulated) / static_cast<double>(real) - 1.0
+             : std::numeric_limits<double>::quiet_NaN();
 }
 
 void SimulationValidationTables::merge(

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "InputErrorOf.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -68,12 +70,7 @@ std::string replace(std::string text, const std::string& from,
 
 /// Parses and returns the error message ("" if it parsed).
 std::string errorOf(const std::string& text) {
-  try {
-    parseDetector(text, "test.toml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test::inputErrorOf([&] { parseDetector(text, "test.toml"); });
 }
 
 TEST(DetectorReader, MinimalDetector) {
@@ -205,7 +202,7 @@ trackml_volume = 1
             std::string::npos)
       << msg;
   EXPECT_EQ(errorOf(replace(text, "trackml_volume = 1", "trackml_volume = 4")),
-            "");
+            "(accepted)");
 }
 
 TEST(DetectorReader, DuplicateTrackmlLayer) {

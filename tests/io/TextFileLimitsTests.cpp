@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <string>
 
+#include "InputErrorOf.hpp"
 #include "TempDir.hpp"
 
 namespace conftrack {
@@ -22,12 +23,7 @@ using ::testing::HasSubstr;
 constexpr std::size_t kSmallLimit = std::size_t{1} << 20;
 
 std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(accepted)";
+  return test::inputErrorOf(f);
 }
 
 TEST(TextFileLimits, LinkToDevZeroIsRefusedAtTheLimit) {

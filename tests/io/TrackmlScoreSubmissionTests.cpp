@@ -18,6 +18,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "InputErrorOf.hpp"
 #include "TempDir.hpp"
 
 namespace conftrack {
@@ -32,12 +33,7 @@ using test::writeText;
 
 std::string errorOf(const fs::path& file, const std::vector<Hit>& hits,
                     std::optional<std::uint64_t> eventId = std::nullopt) {
-  try {
-    readSubmission(file, hits, eventId);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test::inputErrorOf([&] { readSubmission(file, hits, eventId); });
 }
 
 std::vector<Hit> hitsWithIds(std::initializer_list<std::uint64_t> ids) {

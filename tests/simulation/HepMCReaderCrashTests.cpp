@@ -12,6 +12,8 @@
 
 #include <string>
 
+#include "InputErrorOf.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -27,12 +29,7 @@ const std::string kEvent =
 const std::string kTail = "HepMC::Asciiv3-END_EVENT_LISTING\n";
 
 std::string errorOf(const std::string& text) {
-  try {
-    readHepMCEvents(text, "a.hepmc");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(accepted)";
+  return test::inputErrorOf([&] { readHepMCEvents(text, "a.hepmc"); });
 }
 
 TEST(HepMCAttributes, NamesUpTo63CharactersAreRead) {

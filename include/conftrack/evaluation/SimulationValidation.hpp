@@ -63,6 +63,9 @@ struct LayerHitCount {
   VolumeLayer id;
   std::size_t real = 0;
   std::size_t simulated = 0;
+
+  /// simulated / real - 1; NaN without real hits.
+  double deviation() const;
 };
 
 /// The two tables, summed over events.
