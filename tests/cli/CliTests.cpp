@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "TempDir.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -22,7 +24,7 @@ struct Result {
 
 /// Runs `conftrack args`; returns the exit code and stderr.
 Result conftrack(const std::string& args) {
-  fs::path err = fs::path(::testing::TempDir()) / "conftrack-stderr.txt";
+  fs::path err = conftrack::test::perTestPath("stderr.txt");
   std::string cmd = std::string(CONFTRACK_BINARY) + " " + args +
                     " > /dev/null 2> " + err.string();
   int status = std::system(cmd.c_str());
@@ -40,7 +42,7 @@ std::string slurp(const fs::path& p) {
 }
 
 fs::path tempDir(const std::string& name) {
-  fs::path d = fs::path(::testing::TempDir()) / ("conftrack-cli-" + name);
+  fs::path d = conftrack::test::perTestPath(name);
   fs::remove_all(d);
   return d;
 }
@@ -121,7 +123,7 @@ TEST(Cli, BadInputIsOneLineAndExitCodeOne) {
 }
 
 TEST(Cli, DetectorShowListsEveryLayer) {
-  fs::path out = fs::path(::testing::TempDir()) / "conftrack-show.txt";
+  fs::path out = conftrack::test::perTestPath("show.txt");
   std::string cmd = std::string(CONFTRACK_BINARY) +
                     " detector show clicdet > " + out.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0);
@@ -136,7 +138,7 @@ TEST(Cli, DetectorShowListsEveryLayer) {
 
 TEST(Cli, ValidateTrackmlComparesWithTheRealFiles) {
   const fs::path out = tempDir("validate");
-  const fs::path printed = fs::path(::testing::TempDir()) / "validate.txt";
+  const fs::path printed = conftrack::test::perTestPath("validate.txt");
   const fs::path repo = fs::path(CONFTRACK_TEST_DATA_DIR).parent_path();
   const std::string cmd =
       std::string(CONFTRACK_BINARY) + " validate-trackml -i " +

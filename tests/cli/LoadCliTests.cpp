@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "TempDir.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -24,9 +26,8 @@ struct Result {
 
 /// Runs `conftrack args`; returns the exit code, stdout and stderr.
 Result run(const std::string& args) {
-  const fs::path dir = fs::path(::testing::TempDir());
-  const fs::path out = dir / "conftrack-load-stdout.txt";
-  const fs::path err = dir / "conftrack-load-stderr.txt";
+  const fs::path out = conftrack::test::perTestPath("stdout.txt");
+  const fs::path err = conftrack::test::perTestPath("stderr.txt");
   const std::string cmd = std::string(CONFTRACK_BINARY) + " " + args + " > " +
                           out.string() + " 2> " + err.string();
   const int status = std::system(cmd.c_str());
@@ -40,7 +41,7 @@ Result run(const std::string& args) {
 }
 
 fs::path tempDir(const std::string& name) {
-  fs::path d = fs::path(::testing::TempDir()) / ("conftrack-load-" + name);
+  fs::path d = conftrack::test::perTestPath(name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

@@ -12,6 +12,20 @@
 
 namespace conftrack::test {
 
+/// A path in the test temporary folder that no other test can use: ctest runs
+/// the cases of one suite in parallel processes, so a fixed file name (for a
+/// captured stdout, say) would be overwritten by a neighbour.
+inline std::filesystem::path perTestPath(const std::string& stem) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = "conftrack-" + std::string(info->test_suite_name()) + "-" +
+                     info->name() + "-" + std::to_string(::getpid()) + "-" +
+                     stem;
+  for (char& c : name) {
+    if (c == '/') c = '_';  // parameterised tests: "Suite/Name/Param"
+  }
+  return std::filesystem::path(::testing::TempDir()) / name;
+}
+
 /// A fresh, empty folder named after the running test, removed afterwards.
 class TempDir {
  public:

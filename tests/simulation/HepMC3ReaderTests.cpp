@@ -18,6 +18,8 @@
 #include <set>
 #include <string>
 
+#include "TempDir.hpp"
+
 using namespace conftrack;
 using namespace conftrack::units;
 
@@ -37,8 +39,7 @@ bool provenanceCharged(const Particle& p) {
 class TempFile {
  public:
   explicit TempFile(const std::string& name)
-      : m_path(std::filesystem::path(testing::TempDir()) /
-               ("conftrack_hepmc_" + name)) {}
+      : m_path(test::perTestPath(name)) {}
   ~TempFile() {
     std::error_code ec;
     std::filesystem::remove(m_path, ec);
