@@ -1,15 +1,23 @@
 // Fast-simulation throughput: an event's worth of soft charged pions
 // (about the charged multiplicity of a 3 TeV ttbar event with 30 bunch
-// crossings of gamma gamma -> hadrons) in CLICdet.
+// crossings of gamma gamma -> hadrons) in CLICdet, a CLICdet tt-bar event
+// with 30 BX, and a real TrackML event's particles on the TrackML sensors.
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/geometry/TrackmlModuleLayout.hpp"
+#include "conftrack/io/TextFile.hpp"
+#include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
 #include "conftrack/simulation/Simulator.hpp"
+#include "conftrack/simulation/TrackmlEvents.hpp"
 
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <filesystem>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -93,5 +101,45 @@ void simulateTtbar30Bx(benchmark::State& state) {
   state.counters["hits"] = static_cast<double>(hits);
 }
 BENCHMARK(simulateTtbar30Bx)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+namespace {
+
+/// The particles of real TrackML event 1001 through the TrackML-like
+/// simulation (17 % noise, pT > 0.15 GeV). Argument 1: the module-level
+/// simulation of simulate-trackml (the real sensors, half-turn loopers,
+/// interactions); 0: the ideal layers with loopers followed for 10 turns
+/// (the simulation before module level). Issue target: under 2 s.
+void simulateTrackmlEvent(benchmark::State& state) {
+  using namespace conftrack;
+  const std::filesystem::path data(CONFTRACK_TEST_DATA_DIR);
+  static const std::vector<TrackmlModule> modules = parseTrackmlModules(
+      readTextFile(data / "trackml/detectors.csv.gz"), "detectors.csv.gz");
+  static const Detector detector = buildTrackmlDetector(modules);
+  static const auto sensors = std::make_shared<const ModuleLayout>(
+      buildTrackmlModuleLayout(modules, detector));
+  static const Event real =
+      readEvent(data / "trackml/train_100_events_no_truth", 1001, nullptr,
+                ReadOptions{false, true});
+  const bool moduleLevel = state.range(0) != 0;
+  TrackmlEventSimulation::Config config;
+  config.noiseFraction = 0.17;
+  config.minPt = 0.15;
+  if (!moduleLevel) {
+    config.simulator = Simulator::Config();
+  }
+  const TrackmlEventSimulation simulation(
+      detector, moduleLevel ? sensors : nullptr, config);
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    const Event event = simulation.simulate(1001, real.particles);
+    hits = event.hits.size();
+    benchmark::DoNotOptimize(event.hits.data());
+  }
+  state.counters["hits"] = static_cast<double>(hits);
+  state.counters["particles"] = static_cast<double>(real.particles.size());
+}
+BENCHMARK(simulateTrackmlEvent)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace

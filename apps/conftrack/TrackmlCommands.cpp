@@ -7,6 +7,7 @@
 #include "conftrack/evaluation/SimulationValidation.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/geometry/TrackmlModuleLayout.hpp"
 #include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
 #include "conftrack/io/TextFile.hpp"
@@ -74,19 +75,29 @@ struct TrackmlSimOptions {
       (dataDirectory() / "data/trackml/detectors.csv.gz").string();
   double noise = 0.17;
   double minPt = 0.15;
+  /// The layers as ideal cylinders and disks, not their real sensors.
+  bool idealLayers = false;
+  /// Follow loopers for Simulator::Config::maxTurns turns instead of half
+  /// a turn.
+  bool followLoopers = false;
   std::uint64_t seed = 1;
   std::size_t threads = 0;
 };
 
-/// The TrackML detector and module map from detectors.csv, and the
+/// The TrackML detector and its sensors from detectors.csv, and the
 /// simulation of real particle lists on it.
 struct TrackmlSimulationSetup {
   explicit TrackmlSimulationSetup(const TrackmlSimOptions& opt)
       : modules(parseTrackmlModules(readTextFile(opt.detectorsCsv),
                                     opt.detectorsCsv)),
         detector(buildTrackmlDetector(modules, detectorOptions(opt))),
-        map(modules),
-        simulation(detector, &map, simulationConfig(opt)) {}
+        simulation(
+            detector,
+            opt.idealLayers
+                ? nullptr
+                : std::make_shared<const ModuleLayout>(buildTrackmlModuleLayout(
+                      modules, detector, detectorOptions(opt))),
+            simulationConfig(opt)) {}
 
   static TrackmlDetectorOptions detectorOptions(const TrackmlSimOptions& opt) {
     TrackmlDetectorOptions options;
@@ -99,6 +110,9 @@ struct TrackmlSimulationSetup {
     cfg.noiseFraction = opt.noise;
     cfg.minPt = opt.minPt;
     cfg.seed = opt.seed;
+    if (opt.followLoopers) {
+      cfg.simulator.maxTurns = Simulator::Config().maxTurns;
+    }
     return cfg;
   }
 
@@ -121,9 +135,34 @@ struct TrackmlSimulationSetup {
 
   std::vector<TrackmlModule> modules;
   Detector detector;
-  TrackmlModuleMap map;
   TrackmlEventSimulation simulation;
 };
+
+/// The options of the TrackML simulation, shared by simulate-trackml and
+/// validate-trackml.
+void addSimulationOptions(CLI::App& command, TrackmlSimOptions& sim) {
+  command
+      .add_option("--detectors-csv", sim.detectorsCsv,
+                  "The TrackML detectors.csv(.gz): the sensors")
+      ->capture_default_str();
+  command.add_option("--noise", sim.noise, "Fraction of noise hits per layer")
+      ->capture_default_str()
+      ->check(finiteNumber(0.0, 0.99));
+  command
+      .add_option("--min-pt", sim.minPt,
+                  "Particles below this pT [GeV] are not simulated")
+      ->capture_default_str()
+      ->check(finiteNumber(0.0, 1e6));
+  command.add_flag("--ideal-layers", sim.idealLayers,
+                   "Layers as ideal cylinders and disks instead of their "
+                   "real sensors (the simulation before module level)");
+  command.add_flag("--follow-loopers", sim.followLoopers,
+                   "Follow loopers for up to 10 turns instead of half a turn "
+                   "(the ACTS loop protection of the real files)");
+  command.add_option("--seed", sim.seed, "Run seed")
+      ->capture_default_str()
+      ->check(wholeNumber(0, UINT64_MAX));
+}
 
 void runTrackmlSim(const TrackmlSimOptions& opt) {
   const TrackmlSimulationSetup setup(opt);
@@ -292,20 +331,7 @@ void addTrackmlCommands(CLI::App& app) {
       ->required();
   s->add_option("-o,--output", sim->output, "Output folder")
       ->capture_default_str();
-  s->add_option("--detectors-csv", sim->detectorsCsv,
-                "The TrackML detectors.csv(.gz) (for the module ids)")
-      ->capture_default_str();
-  s->add_option("--noise", sim->noise, "Fraction of noise hits per layer")
-      ->capture_default_str()
-      ->check(finiteNumber(0.0, 0.99));
-  s->add_option("--min-pt", sim->minPt,
-                "Particles below this pT [GeV] are "
-                "not simulated")
-      ->capture_default_str()
-      ->check(finiteNumber(0.0, 1e6));
-  s->add_option("--seed", sim->seed, "Run seed")
-      ->capture_default_str()
-      ->check(wholeNumber(0, UINT64_MAX));
+  addSimulationOptions(*s, *sim);
   addThreadsOption(*s, sim->threads);
   s->callback([sim]() { runTrackmlSim(*sim); });
 
@@ -323,19 +349,7 @@ void addTrackmlCommands(CLI::App& app) {
   v->add_option("-o,--output", val->output,
                 "Folder for hit_counts.csv and layer_hits.csv (default: "
                 "print only)");
-  v->add_option("--detectors-csv", val->sim.detectorsCsv,
-                "The TrackML detectors.csv(.gz)")
-      ->capture_default_str();
-  v->add_option("--noise", val->sim.noise, "Fraction of noise hits per layer")
-      ->capture_default_str()
-      ->check(finiteNumber(0.0, 0.99));
-  v->add_option("--min-pt", val->sim.minPt,
-                "Particles below this pT [GeV] are not simulated")
-      ->capture_default_str()
-      ->check(finiteNumber(0.0, 1e6));
-  v->add_option("--seed", val->sim.seed, "Run seed")
-      ->capture_default_str()
-      ->check(wholeNumber(0, UINT64_MAX));
+  addSimulationOptions(*v, val->sim);
   v->add_option("--min-particles", val->minParticles,
                 "Bins with fewer particles are marked (few)")
       ->capture_default_str()

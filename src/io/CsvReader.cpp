@@ -1,6 +1,7 @@
 #include "conftrack/io/CsvReader.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFields.hpp"
 #include "conftrack/io/TextFile.hpp"
 
 #include <algorithm>
@@ -9,17 +10,6 @@
 namespace conftrack {
 
 namespace {
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
-    s.remove_prefix(1);
-  }
-  while (!s.empty() &&
-         (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
 
 /// Length of the valid UTF-8 sequence at the start of `s` (0: invalid).
 std::size_t utf8Length(std::string_view s) {
@@ -156,7 +146,7 @@ void CsvReader::splitLine() {
     const char* comma = static_cast<const char*>(std::memchr(
         fieldBegin, ',', static_cast<std::size_t>(eol - fieldBegin)));
     const char* fieldEnd = comma != nullptr ? comma : eol;
-    m_fields.push_back(trim(std::string_view(
+    m_fields.push_back(trimField(std::string_view(
         fieldBegin, static_cast<std::size_t>(fieldEnd - fieldBegin))));
     if (comma == nullptr) {
       break;

@@ -43,12 +43,21 @@ Simulator::Simulator(const Detector& detector)
     : Simulator(detector, Config()) {}
 
 Simulator::Simulator(const Detector& detector, const Config& config)
+    : Simulator(detector, config, nullptr) {}
+
+Simulator::Simulator(const Detector& detector, const Config& config,
+                     std::shared_ptr<const ModuleLayout> modules)
     : m_config(config),
       m_bz(detector.bz()),
       m_envelopeR(detector.envelopeR()),
       m_envelopeZ(detector.envelopeZ()),
       m_layers(detector.layers()),
-      m_navigator(detector) {
+      m_navigator(detector),
+      m_modules(std::move(modules)) {
+  if (m_modules && m_modules->numLayers() != m_layers.size()) {
+    throw std::invalid_argument(
+        "Simulator: the module layout was built for another detector");
+  }
   if (!(m_config.minMomentum >= 0.0)) {
     throw std::invalid_argument("Simulator: minMomentum must be >= 0");
   }
@@ -58,6 +67,14 @@ Simulator::Simulator(const Detector& detector, const Config& config)
   if (m_config.maxSmearAttempts == 0 || m_config.maxCrossings == 0) {
     throw std::invalid_argument(
         "Simulator: maxSmearAttempts and maxCrossings must be positive");
+  }
+  if (!(m_config.interactionLengthX0 > 0.0)) {
+    throw std::invalid_argument("Simulator: interactionLengthX0 must be > 0");
+  }
+  if (!(m_config.minHitCosIncidence >= 0.0 &&
+        m_config.minHitCosIncidence < 1.0)) {
+    throw std::invalid_argument(
+        "Simulator: minHitCosIncidence must be in [0, 1)");
   }
   if (!(m_config.minCosIncidence > 0.0 && m_config.minCosIncidence <= 1.0)) {
     throw std::invalid_argument("Simulator: minCosIncidence must be in (0, 1]");
@@ -78,11 +95,13 @@ void Simulator::simulate(const std::vector<Particle>& particles,
     nextHitId = std::max(nextHitId, h.id + 1);
   }
   out.particles.reserve(out.particles.size() + particles.size());
+  Scratch scratch;
   for (const Particle& particle : particles) {
     Particle copy = particle;
     copy.nHits = 0;
     if (particle.isStable() && particle.charge != 0.0) {
-      copy.nHits = simulateParticle(particle, rng, normal, nextHitId, out);
+      copy.nHits =
+          simulateParticle(particle, rng, normal, nextHitId, scratch, out);
     }
     out.particles.push_back(copy);
   }
@@ -96,7 +115,7 @@ void Simulator::simulate(const std::vector<Particle>& particles,
 std::uint32_t Simulator::simulateParticle(
     const Particle& particle, RandomEngine& rng,
     std::normal_distribution<double>& normal, std::uint64_t& nextHitId,
-    Event& out) const {
+    Scratch& scratch, Event& out) const {
   Vector3 position = particle.vertex;
   if (!(position.head<2>().norm() < m_envelopeR &&
         std::abs(position.z()) < m_envelopeZ)) {
@@ -105,6 +124,9 @@ std::uint32_t Simulator::simulateParticle(
   const double charge = particle.charge;
   const double mass = massOf(particle.pdg);
   const bool isElectron = std::abs(particle.pdg) == 11;
+  const int absPdg = std::abs(particle.pdg);
+  const bool isHadron =
+      m_config.hadronicInteractions && !(absPdg >= 11 && absPdg <= 16);
   Vector3 momentum = particle.momentum;
   double p = momentum.norm();
   if (!(p >= m_config.minMomentum) || momentum.head<2>().squaredNorm() == 0.0) {
@@ -144,7 +166,20 @@ std::uint32_t Simulator::simulateParticle(
     turns += s * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
 
     const NavigationSurface& surface = m_navigator.surfaces()[next.surface];
-    if (surface.isSensitive()) {
+    Vector3 direction = momentumIn / p;
+    double xOverX0 = 0.0;
+    const bool modular =
+        surface.isSensitive() && m_modules &&
+        m_modules->hasModules(static_cast<std::uint32_t>(surface.layer));
+    if (modular) {
+      xOverX0 =
+          crossModules(helix, s, static_cast<std::uint32_t>(surface.layer),
+                       surface, direction, beta, time, particle.id, rng, normal,
+                       nextHitId, scratch, out, nHits);
+    } else if (surface.thicknessX0 > 0.0) {
+      xOverX0 = surface.xOverX0(position, direction, m_config.minCosIncidence);
+    }
+    if (surface.isSensitive() && !modular) {
       const SensitiveLayer& layer =
           m_layers[static_cast<std::size_t>(surface.layer)];
       Vector3 measured = position;
@@ -171,11 +206,7 @@ std::uint32_t Simulator::simulateParticle(
     }
 
     // Material of the surface, traversed at the actual angle.
-    Vector3 direction = momentumIn / p;
-    if (surface.thicknessX0 > 0.0 &&
-        (m_config.multipleScattering || m_config.energyLoss)) {
-      const double xOverX0 =
-          surface.xOverX0(position, direction, m_config.minCosIncidence);
+    if (xOverX0 > 0.0 && (m_config.multipleScattering || m_config.energyLoss)) {
       if (m_config.multipleScattering) {
         const double theta0 =
             scatteringTheta0(p, beta, charge, xOverX0, isElectron);
@@ -200,12 +231,85 @@ std::uint32_t Simulator::simulateParticle(
         }
       }
     }
+    if (isHadron && xOverX0 > 0.0) {
+      const double probability =
+          -std::expm1(-xOverX0 / m_config.interactionLengthX0);
+      if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) < probability) {
+        break;  // a nuclear interaction: the particle ends here
+      }
+    }
     momentum = p * direction;
     if (momentum.head<2>().squaredNorm() == 0.0) {
       break;  // scattered exactly along z: no helix
     }
   }
   return nHits;
+}
+
+double Simulator::crossModules(
+    const Helix& helix, double s, std::uint32_t layerIndex,
+    const NavigationSurface& surface, const Vector3& direction, double beta,
+    double time, std::uint64_t particleId, RandomEngine& rng,
+    std::normal_distribution<double>& normal, std::uint64_t& nextHitId,
+    Scratch& scratch, Event& out, std::uint32_t& nHits) const {
+  const ModuleLayout& layout = *m_modules;
+  const SensitiveLayer& layer = m_layers[layerIndex];
+  scratch.crossings.clear();
+  findModuleCrossings(helix, s, kMinStep, layerIndex, layout,
+                      scratch.candidates, scratch.crossings);
+  // The support, with the geometry of the layer surface.
+  double xOverX0 =
+      surface.thicknessX0 > 0.0
+          ? surface.xOverX0(helix.position(s), direction,
+                            m_config.minCosIncidence) *
+                (layout.supportX0(layerIndex) / surface.thicknessX0)
+          : 0.0;
+  for (const ModuleCrossing& crossing : scratch.crossings) {
+    const PlanarModule& module = layout.modules()[crossing.module];
+    Vector3 truePosition;
+    Vector3 momentum;
+    helix.positionAndMomentum(crossing.s, truePosition, momentum);
+    const double cosIncidence =
+        std::max(std::abs(momentum.normalized().dot(module.normal())),
+                 m_config.minCosIncidence);
+    xOverX0 += module.thicknessX0 / cosIncidence;
+    if (cosIncidence < m_config.minHitCosIncidence) {
+      continue;  // too long a path in the sensor: no hit (real TrackML)
+    }
+    double u = crossing.u;
+    double v = crossing.v;
+    if (m_config.smearHits) {
+      bool inside = false;
+      for (unsigned attempt = 0; attempt < m_config.maxSmearAttempts && !inside;
+           ++attempt) {
+        u = crossing.u + module.sigmaU * normal(rng);
+        v = crossing.v + module.sigmaV * normal(rng);
+        inside = module.contains(u, v);
+      }
+      if (!inside) {
+        continue;  // DDPlanarDigiProcessor drops it
+      }
+    }
+    Hit hit;
+    hit.id = nextHitId++;
+    hit.position = module.toGlobal(u, v);
+    hit.detId = layer.id;
+    hit.detId.module = module.module;
+    hit.uAxis = module.uAxis();
+    hit.vAxis = module.vAxis();
+    hit.sigmaU = module.sigmaU;
+    hit.sigmaV = module.sigmaV;
+    out.hits.push_back(hit);
+    HitTruth truth;
+    truth.particleId = particleId;
+    truth.position = truePosition;
+    truth.momentum = momentum;
+    truth.time =
+        time + helix.pathLength(crossing.s - s) / (beta * constants::c);
+    out.truth.push_back(truth);
+    ++nHits;
+  }
+  return xOverX0;
 }
 
 }  // namespace conftrack

@@ -6,6 +6,7 @@
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/geometry/TrackmlModuleLayout.hpp"
 
 #include <gtest/gtest.h>
 
@@ -198,27 +199,32 @@ TEST(TrackmlDetector, BuiltDetectorMirrorsNegativeEndcapIds) {
   EXPECT_NEAR(zOf(9, 4), 300.0, 1e-9);
 }
 
-TEST(TrackmlDetector, ModuleMap) {
-  std::vector<TrackmlModule> modules = smallModules();
-  TrackmlModuleMap map(modules);
+TEST(TrackmlDetector, ModuleLayoutFindsEverySensorAtItsCentre) {
+  const std::vector<TrackmlModule> modules = smallModules();
+  const Detector det = buildTrackmlDetector(modules);
+  const ModuleLayout layout = buildTrackmlModuleLayout(modules, det);
+  ASSERT_EQ(layout.modules().size(), modules.size());
+  std::vector<std::uint32_t> found;
   for (const TrackmlModule& m : modules) {
-    auto where = map.find(m.volume, m.center);
-    ASSERT_TRUE(where.has_value());
-    EXPECT_EQ(where->layer, m.layer);
-    EXPECT_EQ(where->module, m.module);
+    const std::uint32_t layer = det.findTrackmlLayer(m.volume, m.layer).value();
+    const PlanarModule* sensor = layout.find(layer, m.module);
+    ASSERT_NE(sensor, nullptr) << m.volume << " " << m.layer << " " << m.module;
+    EXPECT_TRUE(sensor->center.isApprox(m.center));
+    EXPECT_NEAR(sensor->sigmaU, m.pitchU / std::sqrt(12.0), 1e-12);
+    EXPECT_NEAR(sensor->thicknessX0, m.thickness / 93.65, 1e-12);
+    // The grid returns it for its own centre, without any margin.
+    found.clear();
+    const double v =
+        layout.layerIsDisk(layer) ? m.center.head<2>().norm() : m.center.z();
+    layout.candidates(layer, std::atan2(m.center.y(), m.center.x()), v, 0.0,
+                      0.0, found);
+    EXPECT_NE(
+        std::find(found.begin(), found.end(),
+                  static_cast<std::uint32_t>(sensor - &layout.modules()[0])),
+        found.end());
   }
-  // A point on the conftrack cylinder (r = 50) at phi = 0.1, z = 40: the
-  // upper z row, phi sector 4 (phi in [0, pi/4)): module 8 + 5 = 13.
-  auto where = map.find(8, Vector3(50 * std::cos(0.1), 50 * std::sin(0.1), 40));
-  ASSERT_TRUE(where.has_value());
-  EXPECT_EQ(where->module, 13u);
-  // Layer chosen by z within the volume: z = -210 is the (7, 4) disk.
-  where = map.find(7, Vector3(60.0 * std::cos(-kPi + kPi / 6),
-                              60.0 * std::sin(-kPi + kPi / 6), -210.0));
-  ASSERT_TRUE(where.has_value());
-  EXPECT_EQ(where->layer, 4u);
-  EXPECT_EQ(where->module, 1u);
-  EXPECT_FALSE(map.find(13, Vector3(100, 0, 0)).has_value());
+  EXPECT_NEAR(layout.supportX0(0), 1.0 / 95.7, 1e-12);
+  EXPECT_EQ(layout.find(0, 999999), nullptr);
 }
 
 TEST(TrackmlDetector, ParseErrorsNameFileAndLine) {

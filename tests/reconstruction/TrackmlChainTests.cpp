@@ -13,6 +13,7 @@
 #include "conftrack/evaluation/TrackmlScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/geometry/TrackmlModuleLayout.hpp"
 #include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
 #include "conftrack/reconstruction/finding/HitPool.hpp"
@@ -302,17 +303,18 @@ TEST(TrackmlChain, RzRestrictedSearchesFindTheSameHits) {
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   // The simulation as `conftrack simulate-trackml` (defaults: noise 17 %,
-  // pT > 0.15 GeV, seed 1, real module ids from detectors.csv).
+  // pT > 0.15 GeV, seed 1, the real sensors of detectors.csv).
   const fs::path modulesFile = kTrackmlData / "detectors.csv.gz";
   const std::vector<TrackmlModule> modules =
       parseTrackmlModules(hepmc::loadFile(modulesFile), modulesFile.string());
   const Detector simDetector = buildTrackmlDetector(modules);
-  const TrackmlModuleMap moduleMap(modules);
+  const auto sensors = std::make_shared<const ModuleLayout>(
+      buildTrackmlModuleLayout(modules, simDetector));
   TrackmlEventSimulation::Config simConfig;
   simConfig.noiseFraction = 0.17;
   simConfig.minPt = 0.15;
   simConfig.seed = 1;
-  const TrackmlEventSimulation sim(simDetector, &moduleMap, simConfig);
+  const TrackmlEventSimulation sim(simDetector, sensors, simConfig);
   const Event event = sim.simulate(
       1001, readKaggleParticles(kTrackmlData / "train_100_events_no_truth" /
                                 "event000001001-particles.csv.gz"));
@@ -341,10 +343,15 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
       "%.4f, fake rate %.4f; finding %.0f ms, fitting %.0f ms, total %.0f ms\n",
       event.hits.size(), result.tracks.size(), score.score, score.efficiency,
       score.fakeRate, result.findingMs, result.fittingMs, ms);
-  // Measured 0.7608 (README "TrackML"); the issue's goal of 0.90 is not
-  // reached (see the chain file). This guards the current level with a
-  // margin of 0.02.
-  EXPECT_GE(score.score, 0.74);
+  // Measured 0.5596, fake rate 0.255 (README "TrackML"). Threshold lowered
+  // from 0.74 (0.7608 measured on the ideal-layer simulation) when the
+  // simulation went to the real sensors: a particle now leaves a second hit
+  // where sensors overlap (a quarter of its hits, as in the real files),
+  // and the finder, which takes one hit per layer, leaves those hits off
+  // its tracks and splits more particles; the real events show the same
+  // loss (57 % of their hits on tracks). Making the finder take them is the
+  // issue "Finding on real detectors". Guarded with a margin of 0.02.
+  EXPECT_GE(score.score, 0.54);
   EXPECT_LE(score.fakeRate, 0.30);
 }
 

@@ -43,6 +43,11 @@ inline constexpr IonisationMaterial kSilicon{
     0.49848, 173.0 * units::eV, 21.82,  2.329, 4.4355, 0.2015,
     2.8716,  0.14921,           3.2546, 0.14};
 
+/// Nuclear interaction length over radiation length of silicon (PDG
+/// atomic and nuclear properties: lambda_I = 108.4 g/cm^2, X0 = 21.82
+/// g/cm^2), to turn the x/X0 of the tracker material into x/lambda_I.
+inline constexpr double kSiliconInteractionOverRadiationLength = 108.4 / 21.82;
+
 /// Radiation length of a material as a length [mm]: X0[g/cm^2] / density.
 constexpr double radiationLengthMm(const IonisationMaterial& material) {
   return material.radiationLength / material.density * units::cm;

@@ -10,9 +10,13 @@
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/geometry/MaterialInteractions.hpp"
+#include "conftrack/geometry/ModuleCrossings.hpp"
+#include "conftrack/geometry/ModuleLayout.hpp"
 #include "conftrack/geometry/SurfaceNavigator.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -33,6 +37,14 @@ namespace conftrack {
 /// and a new helix starts. A particle stops when it leaves the envelope,
 /// falls below minMomentum, or has made maxTurns turns.
 ///
+/// With a ModuleLayout, a layer that has sensors is crossed sensor by
+/// sensor: every sensor whose mid-plane the helix crosses near the layer
+/// crossing (findModuleCrossings) records a hit, smeared in the sensor's
+/// (u, v) frame and kept inside it, so that overlapping sensors give two
+/// hits and gaps none; the material is that of the sensors crossed, each
+/// at its own angle, plus the layer's support, applied once at the layer
+/// crossing.
+///
 /// Thread-safe: simulate() is const and all randomness comes from the
 /// engine passed in, so the output is a function of (particles, engine
 /// state) only.
@@ -48,6 +60,23 @@ class Simulator {
     /// Bethe-Heitler bremsstrahlung of electrons (sampled fraction; no
     /// photon is produced). Needs energyLoss.
     bool bremsstrahlung = true;
+    /// Hadronic interactions end a hadron in the material: at each
+    /// crossing with probability 1 - exp(-x / lambda_I), x / lambda_I =
+    /// (x / X0) / interactionLengthX0. The secondaries
+    /// are not produced: a particle list with truth (TrackML, HepMC from a
+    /// full simulation) has them already. Hadrons are all codes but e, mu,
+    /// tau and their neutrinos; pdg 0 (Kaggle particles) counts as a pion.
+    bool hadronicInteractions = false;
+    /// The interaction length used for hadronicInteractions, in radiation
+    /// lengths of the material [X0] (silicon: 108.4 / 21.82 = 4.97).
+    double interactionLengthX0 = kSiliconInteractionOverRadiationLength;
+    /// No hit where a track crosses a sensor with |cos alpha| below this
+    /// (alpha: angle to the sensor normal; path in the sensor above
+    /// thickness / minHitCosIncidence). 0: every crossing. The real TrackML
+    /// files show such a cut at 0.10: on the innermost pixel barrel layer
+    /// (r = 32 mm) the hit density drops eightfold at |z| = 9.8 r
+    /// (docs/validation.md). Only with a ModuleLayout.
+    double minHitCosIncidence = 0.0;
     /// Smear measured positions; if false the hit is the true crossing.
     bool smearHits = true;
     /// Particles below this momentum are not simulated or are stopped
@@ -57,7 +86,8 @@ class Simulator {
     /// summed over its helix segments); Geant4 has no such limit. Most
     /// loopers leave the vertex barrel along z or range out before: for
     /// 3000 soft pions in CLICdet, 3 / 10 / 30 turns give 33.0k / 34.5k /
-    /// 35.4k hits in 27 / 30 / 31 ms.
+    /// 35.4k hits in 27 / 30 / 31 ms. The TrackML simulation stops at half
+    /// a turn (TrackmlEvents.hpp).
     double maxTurns = 10.0;
     /// Smearing draws per hit before it is dropped (MaxTries of
     /// DDPlanarDigiProcessor).
@@ -83,11 +113,19 @@ class Simulator {
   /// settings (negative minMomentum, maxTurns <= 0, zero attempts or
   /// crossings, minCosIncidence outside (0, 1]).
   Simulator(const Detector& detector, const Config& config);
+  /// Simulator with `config` whose layers are made of the sensors of
+  /// `modules` (built for `detector`; shared, not copied; may be null).
+  /// Throws std::invalid_argument as above, and if `modules` was built for
+  /// a detector with another number of layers.
+  Simulator(const Detector& detector, const Config& config,
+            std::shared_ptr<const ModuleLayout> modules);
 
   /// The settings.
   const Config& config() const { return m_config; }
   /// The surfaces and crossing search.
   const SurfaceNavigator& navigator() const { return m_navigator; }
+  /// The sensors, or null for ideal layers.
+  const ModuleLayout* modules() const { return m_modules.get(); }
 
   /// Simulates `particles` and appends to `out`: hits and their truth
   /// (parallel), in particle order then crossing order, with ids counting
@@ -102,10 +140,27 @@ class Simulator {
   static double massOf(std::int32_t pdg);
 
  private:
+  /// Reused per-call buffers of the sensor search.
+  struct Scratch {
+    std::vector<std::uint32_t> candidates;
+    std::vector<ModuleCrossing> crossings;
+  };
+
   /// Propagates one particle, appending its hits; returns their number.
   std::uint32_t simulateParticle(const Particle& particle, RandomEngine& rng,
                                  std::normal_distribution<double>& normal,
-                                 std::uint64_t& nextHitId, Event& out) const;
+                                 std::uint64_t& nextHitId, Scratch& scratch,
+                                 Event& out) const;
+  /// Records the hits of the sensors of `layer` crossed near arc length
+  /// `s` of `helix` (time and particle as at the layer crossing); returns
+  /// the material crossed [X0] along `direction`.
+  double crossModules(const Helix& helix, double s, std::uint32_t layer,
+                      const NavigationSurface& surface,
+                      const Vector3& direction, double beta, double time,
+                      std::uint64_t particleId, RandomEngine& rng,
+                      std::normal_distribution<double>& normal,
+                      std::uint64_t& nextHitId, Scratch& scratch, Event& out,
+                      std::uint32_t& nHits) const;
 
   Config m_config;
   double m_bz;
@@ -113,6 +168,7 @@ class Simulator {
   double m_envelopeZ;
   std::vector<SensitiveLayer> m_layers;
   SurfaceNavigator m_navigator;
+  std::shared_ptr<const ModuleLayout> m_modules;
 };
 
 }  // namespace conftrack

@@ -15,6 +15,7 @@
 #include "conftrack/simulation/Simulator.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace conftrack {
@@ -37,30 +38,47 @@ double trackmlPtWeight(double pt);
 /// `nhits` hits (0 for nhits < 4 or ihit >= 20).
 double trackmlOrderWeight(std::uint32_t ihit, std::uint32_t nhits);
 
+/// Effective interaction length of the TrackML-like simulation [X0],
+/// measured from the real files (trackmlSimulatorConfig).
+inline constexpr double kTrackmlInteractionLengthX0 = 1.2;
+
+/// The Simulator settings of TrackML-like events: the defaults with
+/// maxTurns = 0.5 (the loop protection of the ACTS propagator that
+/// simulated the Kaggle events: its path limit is half the helix
+/// circumference, and the real prompt central particles indeed have the
+/// hits of their outward half turn only), hadronicInteractions with the
+/// effective interaction length kTrackmlInteractionLengthX0, and
+/// minHitCosIncidence = 0.1 (both read off the real files;
+/// docs/validation.md).
+Simulator::Config trackmlSimulatorConfig();
+
 /// Simulates TrackML-like events from given particles.
 ///
-/// Known differences to the Kaggle simulation (from the particle nhits of
-/// the five Kaggle events, which have no truth): one hit per layer
-/// crossing on continuous cylinders and disks (the real modules overlap, so
-/// real primaries above 0.3 GeV have about 11 hits against 9.5 here, but
-/// also lose some in gaps: 6 % of them have fewer than 4 hits against none
-/// here); no hadronic interactions; Kaggle particles have no PDG code, so
-/// all are simulated with the pion mass (no bremsstrahlung); loopers are
-/// followed for Simulator::Config::maxTurns turns, which gives low-pT
-/// secondaries far more hits than in the Kaggle events. Net effect with
-/// minPt = 0.15 GeV: 11-13 % more particles with >= 4 hits than the real
-/// files (25 % without the cut).
+/// With a ModuleLayout of the real modules (buildTrackmlModuleLayout), the
+/// default, every layer is made of its real, overlapping sensors (two hits
+/// where a particle crosses an overlap, none in a gap; hits measured in the
+/// sensor frame); particles stop after half a turn, as in the simulation of
+/// the real files (trackmlSimulatorConfig). Without
+/// a layout the layers are the ideal cylinders and disks of the detector
+/// file (the simulation before module level; module ids from the layer
+/// grid). How well either reproduces the real files is measured by
+/// `conftrack validate-trackml` (docs/validation.md). Kaggle particles have
+/// no PDG code, so all are simulated with the pion mass.
 class TrackmlEventSimulation {
  public:
   struct Config {
-    /// Fast-simulation settings (material effects on by default).
-    Simulator::Config simulator;
-    /// Noise: on every layer, round(f / (1 - f) x its particle hits) extra
-    /// hits uniformly distributed over the layer surface (uniform in phi
-    /// and z on cylinders, in area on disks), so that a fraction f of each
-    /// layer's hits is noise. The Kaggle events have f = 16-19 % overall
-    /// (their per-layer distribution is not known without truth). In
-    /// [0, 1).
+    /// Fast-simulation settings (trackmlSimulatorConfig).
+    Simulator::Config simulator = trackmlSimulatorConfig();
+    /// Noise, so that a fraction f of all hits is noise: f / (1 - f) x the
+    /// particle hits, the same expected number on every sensor, each
+    /// uniform on its sensor. This per-sensor distribution is what the
+    /// real files show: with it the hits per (volume, layer) of the five
+    /// Kaggle events differ from the simulation by about the same few per
+    /// cent on every layer, with noise in proportion to each layer's hits
+    /// or area by up to 30-60 % (docs/validation.md). The Kaggle events
+    /// have f = 16-19 % overall. Without a module layout: on every ideal
+    /// layer, f / (1 - f) x its particle hits, uniform in phi and z
+    /// (cylinders) or in area (disks). In [0, 1).
     double noiseFraction = 0.0;
     /// Particles below this pT are not simulated (kept with nhits 0) [GeV].
     /// The Kaggle events look cut at 0.15 GeV: in event 1001, 392 of the
@@ -71,13 +89,13 @@ class TrackmlEventSimulation {
     std::uint64_t seed = 1;
   };
 
-  /// `modules` (optional, may be nullptr) gives simulated hits the real
-  /// TrackML module ids (TrackmlModuleMap); without it they keep the
-  /// layer-grid ids of SensitiveLayer::moduleAt. Neither object is copied:
-  /// both must outlive this. Throws std::invalid_argument for a noise
-  /// fraction outside [0, 1) or a negative minPt.
+  /// `modules` (may be null: ideal layers) holds the sensors of `detector`;
+  /// the detector must outlive this. Throws std::invalid_argument for a
+  /// noise fraction outside [0, 1), a negative minPt, or a layout built for
+  /// another detector.
   TrackmlEventSimulation(const Detector& detector,
-                         const TrackmlModuleMap* modules, Config config);
+                         std::shared_ptr<const ModuleLayout> modules,
+                         Config config);
 
   const Config& config() const { return m_config; }
 
@@ -90,8 +108,12 @@ class TrackmlEventSimulation {
                  const std::vector<Particle>& particles) const;
 
  private:
+  /// Adds the noise hits of one layer.
+  void addNoise(std::size_t layer, std::size_t count, RandomEngine& rng,
+                Event& event) const;
+
   const Detector* m_detector;
-  const TrackmlModuleMap* m_modules;
+  std::shared_ptr<const ModuleLayout> m_modules;
   Config m_config;
   Simulator m_simulator;
 };

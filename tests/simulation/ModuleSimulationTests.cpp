@@ -1,0 +1,253 @@
+// The simulation with flat sensors (Simulator + ModuleLayout): overlaps
+// give two hits and gaps none, hits are measured in the sensor frame; the
+// half-turn looper stop, hadronic interactions and the grazing cut of the
+// TrackML-like simulation.
+
+#include "conftrack/core/Random.hpp"
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/geometry/MaterialInteractions.hpp"
+#include "conftrack/geometry/ModuleLayout.hpp"
+#include "conftrack/simulation/Simulator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace conftrack {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// Barrel layers at the given radii (|z| < halfZ), 2 T.
+Detector barrels(const std::vector<double>& radii, double halfZ,
+                 double xOverX0) {
+  std::string text =
+      "[detector]\nname = \"Toy\"\nmodel = \"toy\"\nbz_T = 2.0\n"
+      "envelope_r_mm = 900.0\nenvelope_z_mm = 4000.0\n\n"
+      "[[subdetector]]\nname = \"Barrel\"\nkind = \"barrel\"\n";
+  for (std::size_t i = 0; i < radii.size(); ++i) {
+    text += "  [[subdetector.layer]]\n  name = \"L" + std::to_string(i) +
+            "\"\n  r_mm = " + std::to_string(radii[i]) +
+            "\n  half_z_mm = " + std::to_string(halfZ) +
+            "\n  x_over_x0 = " + std::to_string(xOverX0) +
+            "\n  sigma_rphi_um = 10.0\n  sigma_z_um = 20.0\n";
+  }
+  return parseDetector(text, "toy.toml");
+}
+
+/// A ring of `n` flat sensors around the first layer of `detector`, each
+/// `widthFactor` times as wide as the ring's phi sector (> 1: overlaps,
+/// < 1: gaps), alternately 1 mm inside and outside the layer radius.
+std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
+                                         double widthFactor) {
+  const SensitiveLayer& layer = detector.layers()[0];
+  std::vector<PlanarModule> modules;
+  for (int k = 0; k < n; ++k) {
+    const double phi = 2.0 * kPi * k / n;
+    const double r = layer.r + (k % 2 == 0 ? -1.0 : 1.0);
+    PlanarModule m;
+    m.layer = 0;
+    m.module = static_cast<std::uint32_t>(k + 1);
+    m.center = Vector3(r * std::cos(phi), r * std::sin(phi), 0.0);
+    m.rotation.col(0) = Vector3(-std::sin(phi), std::cos(phi), 0.0);
+    m.rotation.col(1) = Vector3::UnitZ();
+    m.rotation.col(2) = Vector3(std::cos(phi), std::sin(phi), 0.0);
+    m.minHalfU = m.maxHalfU = widthFactor * layer.r * std::tan(kPi / n);
+    m.halfV = layer.zMax;
+    m.thickness = 0.2;
+    m.thicknessX0 = 0.002;
+    m.sigmaU = 0.01;
+    m.sigmaV = 0.05;
+    modules.push_back(m);
+  }
+  return std::make_shared<const ModuleLayout>(detector, modules,
+                                              std::vector<double>{0.001});
+}
+
+Particle particle(std::uint64_t id, double pt, double phi, double eta,
+                  Vector3 vertex = Vector3::Zero(), int pdg = 211) {
+  Particle p;
+  p.id = id;
+  p.pdg = pdg;
+  p.charge = pdg > 0 ? 1.0 : -1.0;
+  p.vertex = vertex;
+  p.momentum =
+      Vector3(pt * std::cos(phi), pt * std::sin(phi), pt * std::sinh(eta));
+  return p;
+}
+
+Simulator::Config exact() {
+  Simulator::Config c;
+  c.multipleScattering = false;
+  c.energyLoss = false;
+  c.smearHits = false;
+  return c;
+}
+
+TEST(ModuleSimulation, OverlapGivesTwoHitsAndGapNone) {
+  const Detector detector = barrels({100.0}, 200.0, 0.01);
+  const Simulator overlapping(detector, exact(), ring(detector, 16, 1.1));
+  const Simulator gapped(detector, exact(), ring(detector, 16, 0.9));
+  // phi = 0: the centre of sensor 1; phi = pi/16: the border of sensors 1
+  // and 2 (the overlap, or the gap).
+  const std::vector<Particle> particles = {particle(1, 100.0, 0.0, 0.3),
+                                           particle(2, 100.0, kPi / 16, -0.2)};
+  Event a;
+  RandomEngine rng(1);
+  overlapping.simulate(particles, rng, a);
+  ASSERT_EQ(a.particles[0].nHits, 1u);
+  ASSERT_EQ(a.particles[1].nHits, 2u);
+  std::set<std::uint32_t> modules;
+  for (std::size_t i = 0; i < a.hits.size(); ++i) {
+    const Hit& hit = a.hits[i];
+    const PlanarModule* m = overlapping.modules()->find(0, hit.detId.module);
+    ASSERT_NE(m, nullptr);
+    // The (unsmeared) hit is the crossing of the sensor's mid-plane, with
+    // the sensor's frame and resolution.
+    EXPECT_NEAR(m->toLocal(hit.position).z(), 0.0, 1e-9);
+    EXPECT_TRUE(hit.position.isApprox(a.truth[i].position, 1e-12));
+    EXPECT_TRUE(hit.uAxis.isApprox(m->uAxis()));
+    EXPECT_DOUBLE_EQ(hit.sigmaU, 0.01);
+    if (a.truth[i].particleId == 2) {
+      modules.insert(hit.detId.module);
+    }
+  }
+  EXPECT_EQ(modules, (std::set<std::uint32_t>{1, 2}));
+  Event b;
+  gapped.simulate(particles, rng, b);
+  EXPECT_EQ(b.particles[0].nHits, 1u);
+  EXPECT_EQ(b.particles[1].nHits, 0u);
+}
+
+TEST(ModuleSimulation, SmearedInTheSensorFrameAndKeptInside) {
+  const Detector detector = barrels({100.0}, 200.0, 0.01);
+  Simulator::Config config = exact();
+  config.smearHits = true;
+  const Simulator simulator(detector, config, ring(detector, 16, 1.1));
+  std::vector<Particle> particles;
+  for (int k = 0; k < 4000; ++k) {
+    particles.push_back(particle(k + 1, 50.0, 2.0 * kPi * k / 4000.0,
+                                 std::remainder(0.37 * k, 1.5)));
+  }
+  Event event;
+  RandomEngine rng(3);
+  simulator.simulate(particles, rng, event);
+  double sum = 0.0;
+  double sum2 = 0.0;
+  double sumV2 = 0.0;
+  for (std::size_t i = 0; i < event.hits.size(); ++i) {
+    const PlanarModule* m =
+        simulator.modules()->find(0, event.hits[i].detId.module);
+    const Vector3 local = m->toLocal(event.hits[i].position);
+    EXPECT_NEAR(local.z(), 0.0, 1e-9);
+    EXPECT_TRUE(m->contains(local.x(), local.y()));
+    const Vector3 d = event.hits[i].position - event.truth[i].position;
+    const double pullU = d.dot(m->uAxis()) / m->sigmaU;
+    sum += pullU;
+    sum2 += pullU * pullU;
+    sumV2 += std::pow(d.dot(m->vAxis()) / m->sigmaV, 2);
+  }
+  const double n = static_cast<double>(event.hits.size());
+  ASSERT_GT(n, 4000.0);  // overlaps add to one hit per particle
+  // Pulls: mean 0 +- 0.05, width 1 +- 0.05 (about 4500 hits).
+  EXPECT_NEAR(sum / n, 0.0, 0.05);
+  EXPECT_NEAR(std::sqrt(sum2 / n), 1.0, 0.05);
+  EXPECT_NEAR(std::sqrt(sumV2 / n), 1.0, 0.05);
+}
+
+TEST(ModuleSimulation, TrackmlLoopersStopAfterHalfATurn) {
+  const Detector detector = barrels({100.0, 200.0, 300.0, 400.0}, 2000.0, 0.0);
+  Simulator::Config config = exact();
+  const Simulator follow(detector, config);
+  config.maxTurns = 0.5;  // as trackmlSimulatorConfig (ACTS loop protection)
+  const Simulator half(detector, config);
+  // pT 0.085 GeV in 2 T: radius 141.7 mm. From the origin the particle
+  // reaches r = 283 mm after half a turn: it crosses 100 and 200 outward.
+  // From (250, 0) heading inward: the circle centre is at (250, -141.7) or
+  // (250, 141.7); the particle passes its smallest radius, 145.6 mm, and
+  // after half a turn is at (250, +-283.4), r = 377.9 mm: in through 200,
+  // out through 200 and 300.
+  const std::vector<Particle> particles = {
+      particle(1, 0.085, 0.4, 0.01),
+      particle(2, 0.085, kPi, 0.01, Vector3(250.0, 0.0, 0.0))};
+  Event stopped;
+  RandomEngine rng(1);
+  half.simulate(particles, rng, stopped);
+  EXPECT_EQ(stopped.particles[0].nHits, 2u);
+  EXPECT_EQ(stopped.particles[1].nHits, 3u);
+  double lastR = 0.0;
+  for (std::size_t i = 0; i < stopped.hits.size(); ++i) {
+    if (stopped.truth[i].particleId == 1) {
+      const double r = stopped.hits[i].position.head<2>().norm();
+      EXPECT_GT(r, lastR);  // outward only
+      lastR = r;
+    }
+  }
+  Event followed;
+  follow.simulate(particles, rng, followed);
+  EXPECT_GT(followed.particles[0].nHits, 20u);  // 10 turns of 4 crossings
+  EXPECT_GT(followed.particles[1].nHits, 20u);
+}
+
+TEST(ModuleSimulation, HadronicInteractionsEndHadronsOnly) {
+  // Two layers of 0.5 X0: a pion ends in the first with probability
+  // 1 - exp(-0.5 / (lambda_I / X0)) = 0.0958 (silicon); muons never do.
+  const Detector detector = barrels({100.0, 200.0}, 2000.0, 0.5);
+  Simulator::Config config = exact();
+  config.hadronicInteractions = true;
+  const Simulator simulator(detector, config);
+  std::vector<Particle> particles;
+  constexpr int kCount = 20000;
+  for (int k = 0; k < kCount; ++k) {
+    particles.push_back(particle(k + 1, 10.0, 0.001 * k, 0.0, Vector3::Zero(),
+                                 k % 2 == 0 ? 211 : -13));
+  }
+  Event event;
+  RandomEngine rng(9);
+  simulator.simulate(particles, rng, event);
+  int pionsWithOneHit = 0;
+  for (const Particle& p : event.particles) {
+    if (p.pdg == 211) {
+      pionsWithOneHit += p.nHits == 1 ? 1 : 0;
+      EXPECT_GE(p.nHits, 1u);
+    } else {
+      EXPECT_EQ(p.nHits, 2u);
+    }
+  }
+  const double expected =
+      -std::expm1(-0.5 / kSiliconInteractionOverRadiationLength);
+  const double n = kCount / 2.0;
+  // Binomial: 5 standard deviations (0.0021).
+  EXPECT_NEAR(pionsWithOneHit / n, expected,
+              5.0 * std::sqrt(expected * (1.0 - expected) / n));
+}
+
+TEST(ModuleSimulation, NoHitAtGrazingIncidenceBelowTheCut) {
+  // eta = 3.7 through a barrel sensor at r = 100 mm: cos(alpha) = 0.049.
+  const Detector detector = barrels({100.0}, 3000.0, 0.01);
+  std::shared_ptr<const ModuleLayout> sensors = ring(detector, 16, 1.1);
+  Simulator::Config config = exact();
+  const std::vector<Particle> particles = {particle(1, 5.0, 0.0, 3.7),
+                                           particle(2, 5.0, 0.0, 2.0)};
+  Event all;
+  RandomEngine rng(1);
+  Simulator(detector, config, sensors).simulate(particles, rng, all);
+  EXPECT_EQ(all.particles[0].nHits, 1u);
+  EXPECT_EQ(all.particles[1].nHits, 1u);
+  config.minHitCosIncidence = 0.1;
+  Event cut;
+  Simulator(detector, config, sensors).simulate(particles, rng, cut);
+  EXPECT_EQ(cut.particles[0].nHits, 0u);
+  EXPECT_EQ(cut.particles[1].nHits, 1u);  // cos(alpha) = 0.27
+  config.minHitCosIncidence = 1.0;
+  EXPECT_THROW(Simulator(detector, config, sensors), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace conftrack
