@@ -199,14 +199,21 @@ std::uint32_t ModuleLayout::vBin(const Layer& layer, double v) const {
     return 0;
   }
   const double f = std::floor((v - layer.vLow) / width);
+  if (!(f > 0.0)) {
+    return 0;  // below the grid (or not a number)
+  }
   return static_cast<std::uint32_t>(
-      std::clamp(f, 0.0, static_cast<double>(layer.nV - 1)));
+      std::min(f, static_cast<double>(layer.nV - 1)));
 }
 
 void ModuleLayout::candidates(std::uint32_t layerIndex, double phi, double v,
                               double marginPhi, double marginV,
                               std::vector<std::uint32_t>& out) const {
   const Layer& layer = m_layers[layerIndex];
+  if (!(std::isfinite(phi) && std::isfinite(v) && marginPhi >= 0.0 &&
+        marginPhi < 10.0 && marginV >= 0.0 && std::isfinite(marginV))) {
+    return;  // no point to look around (a margin of 10 rad covers all)
+  }
   if (layer.end == layer.begin || v + marginV < layer.vLow ||
       v - marginV > layer.vHigh) {
     return;
