@@ -76,6 +76,8 @@ struct TrackmlSimOptions {
   double minPt = 0.15;
   std::uint64_t seed = 1;
   std::size_t threads = 0;
+  /// Unset: the real vertices; set: the interactions are moved to it.
+  std::optional<LuminousRegion::Config> luminousRegion;
 };
 
 /// The TrackML detector and module map from detectors.csv, and the
@@ -99,6 +101,7 @@ struct TrackmlSimulationSetup {
     cfg.noiseFraction = opt.noise;
     cfg.minPt = opt.minPt;
     cfg.seed = opt.seed;
+    cfg.luminousRegion = opt.luminousRegion;
     return cfg;
   }
 
@@ -115,7 +118,13 @@ struct TrackmlSimulationSetup {
       throw InputError(
           dir, "event " + std::to_string(number) + " has no particles file");
     }
-    pair.simulated = simulation.simulate(number, pair.real.particles);
+    try {
+      pair.simulated = simulation.simulate(number, pair.real.particles);
+    } catch (const InputError& e) {
+      // Particle ids without TrackML vertex ids (--luminous-region).
+      throw InputError(
+          EventFiles::locate(dir, number).particles.value().string(), e.what());
+    }
     return pair;
   }
 
@@ -306,8 +315,16 @@ void addTrackmlCommands(CLI::App& app) {
   s->add_option("--seed", sim->seed, "Run seed")
       ->capture_default_str()
       ->check(wholeNumber(0, UINT64_MAX));
+  auto region = std::make_shared<LuminousRegionOptions>();
+  addLuminousRegionOptions(
+      *s, *region,
+      "moves every interaction (particles with one TrackML vertex id) along "
+      "z to a point drawn from it, e.g. hllhc; default: the real vertices");
   addThreadsOption(*s, sim->threads);
-  s->callback([sim]() { runTrackmlSim(*sim); });
+  s->callback([sim, region]() {
+    sim->luminousRegion = chosenLuminousRegion(*region);
+    runTrackmlSim(*sim);
+  });
 
   auto val = std::make_shared<ValidateOptions>();
   CLI::App* v = app.add_subcommand(
