@@ -77,7 +77,7 @@ struct TrackmlSimOptions {
   std::uint64_t seed = 1;
   std::size_t threads = 0;
   /// Unset: the real vertices; set: the interactions are moved to it.
-  std::optional<LuminousRegion::Config> luminousRegion;
+  std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
 };
 
 /// The TrackML detector and module map from detectors.csv, and the

@@ -35,7 +35,7 @@ class EventSimulation {
     /// (e.g. from --luminous-region); unset: a [luminous_region] table of
     /// generatorToml, else each generator's default. Setting both is an
     /// InputError.
-    std::optional<LuminousRegion::Config> luminousRegion;
+    std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
     /// Bunch crossings of gamma gamma -> hadrons overlaid (0: none). The
     /// physics BX sits at position N/3 of the train (10 of 30, as CLIC)
     /// unless the [overlay] table sets physics_bx.

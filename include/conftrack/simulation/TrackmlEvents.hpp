@@ -148,7 +148,7 @@ class TrackmlEventSimulation {
     /// from this region (moveTrackmlInteractions, stream eLuminousRegion of
     /// (seed, event number)), e.g. preset "hllhc" for an HL-LHC length of
     /// 50 mm instead of the Kaggle events' 5.5 mm.
-    std::optional<LuminousRegion::Config> luminousRegion;
+    std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
   };
 
   /// `modules` (optional, may be nullptr) gives simulated hits the real

@@ -56,7 +56,7 @@ class HepMC3Generator final : public EventGenerator {
     /// infinite by default (keep all).
     double maxProductionRadius = std::numeric_limits<double>::infinity();
     /// If set, events are moved by a vertex drawn from this region.
-    std::optional<LuminousRegion::Config> luminousRegion;
+    std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
   };
 
   /// Reads and validates the whole file; throws InputError with a one-line
