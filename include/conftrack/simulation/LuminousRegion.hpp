@@ -26,8 +26,8 @@ namespace conftrack {
 ///
 /// Random numbers: sample() draws the standard normals in the order z, x,
 /// y, t and draws none for an axis of zero width. A region with only a
-/// length (all presets of CLIC) therefore takes exactly one normal number
-/// per vertex, as conftrack's generators did before the region existed, so
+/// length (preset clic3tev) therefore takes exactly one normal number per
+/// vertex, as conftrack's generators did before the region existed, so
 /// that their events did not change.
 class LuminousRegion {
  public:
