@@ -42,7 +42,7 @@ const std::array<LuminousRegion::Preset, 6> kPresets = {{
     {"trackml-kaggle", "TrackML Kaggle events (pp, pile-up 200)",
      region(15.0 * um, 15.0 * um, 5.5 * mm),
      "Kaggle TrackML accuracy-phase events; measured on the five shipped "
-     "events: 14.6 um, 15.0 um, 5.31 mm"},
+     "events: 14.7 um, 15.0 um, 5.31 mm"},
     {"point", "none: a point at the origin", region(0.0, 0.0, 0.0),
      "definition (the particle gun's default)"},
 }};
