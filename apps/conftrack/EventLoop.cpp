@@ -2,6 +2,7 @@
 
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
 #include "conftrack/io/EventFiles.hpp"
 
 #include <tbb/global_control.h>
@@ -17,6 +18,35 @@
 #include "Progress.hpp"
 
 namespace conftrack::cli {
+
+void addLuminousRegionOptions(CLI::App& cmd, LuminousRegionOptions& o,
+                              const std::string& purpose) {
+  cmd.add_option("--luminous-region", o.preset,
+                 "Luminous region preset: " + LuminousRegion::presetNames() +
+                     " (docs/luminous-region.md); " + purpose)
+      ->check(luminousRegionPreset());
+  cmd.add_option("--beam-sigma-z", o.sigmaZ,
+                 "Length (sigma z) of the luminous region [mm], replacing the "
+                 "preset's; alone, a region at the origin with only this "
+                 "length")
+      ->check(finiteNumber(0.0, LuminousRegion::kMaxLength / units::mm));
+}
+
+std::optional<LuminousRegion::Config> chosenLuminousRegion(
+    const LuminousRegionOptions& o) {
+  if (o.preset.empty() && !o.sigmaZ) {
+    return std::nullopt;
+  }
+  LuminousRegion::Config c;
+  if (!o.preset.empty()) {
+    // The option's validator has checked the name.
+    c = LuminousRegion::findPreset(o.preset)->config;
+  }
+  if (o.sigmaZ) {
+    c.sigmaZ = *o.sigmaZ * units::mm;
+  }
+  return c;
+}
 
 void addSampleOptions(CLI::App& cmd, SampleOptions& o) {
   cmd.add_option("--sample", o.sample,
@@ -41,6 +71,10 @@ void addSampleOptions(CLI::App& cmd, SampleOptions& o) {
                "Switch off energy loss in the simulation");
   cmd.add_flag("--no-time-window", o.noTimeWindow,
                "Keep hits outside the 10 ns readout window");
+  addLuminousRegionOptions(cmd, o.luminousRegion,
+                           "default: clic3tev for ttbar3tev, bb500 and the "
+                           "overlay, a point for muons, the file's vertices "
+                           "for hepmc");
 }
 
 EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
@@ -51,6 +85,7 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
   c.simulator.multipleScattering = !o.noMultipleScattering;
   c.simulator.energyLoss = !o.noEnergyLoss;
   c.applyTimeWindow = !o.noTimeWindow;
+  c.luminousRegion = chosenLuminousRegion(o.luminousRegion);
   if (!o.configFile.empty() && !o.settings.empty()) {
     throw InputError("--config and --gen: give the settings in one of them");
   }
@@ -60,6 +95,7 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
   } else if (!o.settings.empty()) {
     std::string generator;
     std::string overlay;
+    std::string region;
     for (const std::string& s : o.settings) {
       auto eq = s.find('=');
       if (eq == std::string::npos || eq == 0) {
@@ -81,12 +117,15 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
       }
       if (key.rfind("overlay.", 0) == 0) {
         overlay += key.substr(8) + " = " + value + "\n";
+      } else if (key.rfind("luminous_region.", 0) == 0) {
+        region += key.substr(16) + " = " + value + "\n";
       } else {
         generator += key + " = " + value + "\n";
       }
     }
     c.generatorToml = (generator.empty() ? "" : "[generator]\n" + generator) +
-                      (overlay.empty() ? "" : "[overlay]\n" + overlay);
+                      (overlay.empty() ? "" : "[overlay]\n" + overlay) +
+                      (region.empty() ? "" : "[luminous_region]\n" + region);
     c.generatorTomlSource = "--gen options";
   }
   return c;

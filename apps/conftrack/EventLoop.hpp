@@ -6,16 +6,35 @@
 /// over events with progress.
 
 #include "conftrack/simulation/EventSimulation.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace conftrack::cli {
+
+/// Command-line choice of a luminous region.
+struct LuminousRegionOptions {
+  /// --luminous-region: a preset name (empty: not given).
+  std::string preset;
+  /// --beam-sigma-z: sigma z [mm, as typed], replacing the preset's.
+  std::optional<double> sigmaZ;
+};
+
+/// Adds --luminous-region PRESET and --beam-sigma-z MM; `purpose` ends the
+/// help text of --luminous-region (what the region is used for).
+void addLuminousRegionOptions(CLI::App& cmd, LuminousRegionOptions& options,
+                              const std::string& purpose);
+/// The region the options choose: the preset (or a point at the origin)
+/// with --beam-sigma-z as its length; nullopt if neither option is given.
+std::optional<LuminousRegion::Config> chosenLuminousRegion(
+    const LuminousRegionOptions& options);
 
 /// Command-line description of a simulated sample.
 struct SampleOptions {
@@ -27,10 +46,11 @@ struct SampleOptions {
   bool noMultipleScattering = false;
   bool noEnergyLoss = false;
   bool noTimeWindow = false;
+  LuminousRegionOptions luminousRegion;
 };
 
 /// Adds --sample, --overlay-bx, --seed, --config, --gen, --no-ms,
-/// --no-eloss, --no-time-window.
+/// --no-eloss, --no-time-window, --luminous-region, --beam-sigma-z.
 void addSampleOptions(CLI::App& cmd, SampleOptions& options);
 /// Turns the options into an EventSimulation configuration (reads the
 /// --config file). Throws InputError for bad values.

@@ -2,6 +2,7 @@
 
 #include "conftrack/core/Error.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 
 #include <cerrno>
 #include <charconv>
@@ -95,6 +96,18 @@ CLI::Validator finiteNumber(double min, double max) {
         return "";
       },
       "NUMBER in " + range);
+}
+
+CLI::Validator luminousRegionPreset() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (LuminousRegion::findPreset(text) == nullptr) {
+          return "unknown luminous region '" + text +
+                 "' (presets: " + LuminousRegion::presetNames() + ")";
+        }
+        return "";
+      },
+      "PRESET");
 }
 
 CLI::Validator pdgCode() {

@@ -31,6 +31,9 @@ CLI::Validator finiteNumber(double min, double max);
 /// A PDG code the fitter has a mass for (massHypothesis).
 CLI::Validator pdgCode();
 
+/// The name of a luminous-region preset (LuminousRegion::presets()).
+CLI::Validator luminousRegionPreset();
+
 /// Makes `dir` (the value of `option`) a folder that can be written to:
 /// creates it if needed and writes and removes a probe file. Throws
 /// InputError "-o X: problem" if it is a file, cannot be created or is not

@@ -82,6 +82,8 @@ struct TrackmlSimOptions {
   bool followLoopers = false;
   std::uint64_t seed = 1;
   std::size_t threads = 0;
+  /// Unset: the real vertices; set: the interactions are moved to it.
+  std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
 };
 
 /// The TrackML detector and its sensors from detectors.csv, and the
@@ -113,6 +115,7 @@ struct TrackmlSimulationSetup {
     if (opt.followLoopers) {
       cfg.simulator.maxTurns = Simulator::Config().maxTurns;
     }
+    cfg.luminousRegion = opt.luminousRegion;
     return cfg;
   }
 
@@ -129,7 +132,13 @@ struct TrackmlSimulationSetup {
       throw InputError(
           dir, "event " + std::to_string(number) + " has no particles file");
     }
-    pair.simulated = simulation.simulate(number, pair.real.particles);
+    try {
+      pair.simulated = simulation.simulate(number, pair.real.particles);
+    } catch (const InputError& e) {
+      // Particle ids without TrackML vertex ids (--luminous-region).
+      throw InputError(
+          EventFiles::locate(dir, number).particles.value().string(), e.what());
+    }
     return pair;
   }
 
@@ -332,8 +341,16 @@ void addTrackmlCommands(CLI::App& app) {
   s->add_option("-o,--output", sim->output, "Output folder")
       ->capture_default_str();
   addSimulationOptions(*s, *sim);
+  auto region = std::make_shared<LuminousRegionOptions>();
+  addLuminousRegionOptions(
+      *s, *region,
+      "moves every interaction (particles with one TrackML vertex id) along "
+      "z to a point drawn from it, e.g. hllhc; default: the real vertices");
   addThreadsOption(*s, sim->threads);
-  s->callback([sim]() { runTrackmlSim(*sim); });
+  s->callback([sim, region]() {
+    sim->luminousRegion = chosenLuminousRegion(*region);
+    runTrackmlSim(*sim);
+  });
 
   auto val = std::make_shared<ValidateOptions>();
   CLI::App* v = app.add_subcommand(

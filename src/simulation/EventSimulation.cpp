@@ -16,6 +16,16 @@ EventSimulation::EventSimulation(const Detector& detector, Config config)
   std::shared_ptr<toml::table> table =
       ConfigTable::parse(m_config.generatorToml, m_config.generatorTomlSource);
   ConfigTable root(*table, m_config.generatorTomlSource, "");
+  std::optional<LuminousRegion::Config> region = m_config.luminousRegion;
+  if (std::optional<ConfigTable> lr = root.findTable("luminous_region")) {
+    if (region) {
+      lr->fail("",
+               "the luminous region is also set on the command line "
+               "(--luminous-region/--beam-sigma-z): give it in one "
+               "place");
+    }
+    region = readLuminousRegionConfig(*lr);
+  }
   std::optional<ConfigTable> gen = root.findTable("generator");
   if (gen) {
     if (gen->has("sample")) {
@@ -25,15 +35,18 @@ EventSimulation::EventSimulation(const Detector& detector, Config config)
       (*table)["generator"].as_table()->insert("sample", m_config.sample);
       gen = root.findTable("generator");
     }
-    m_signal = makeGenerator(*gen);
+    m_signal = makeGenerator(*gen, region);
   } else {
-    m_signal = makeGenerator(m_config.sample);
+    m_signal = makeGenerator(m_config.sample, region);
   }
   std::optional<ConfigTable> over = root.findTable("overlay");
   if (m_config.overlayBx > 0 || over) {
     GammaGammaOverlay::Config oc;
+    oc.luminousRegion = region.value_or(oc.luminousRegion);
     if (over) {
-      oc = readGammaGammaOverlayConfig(*over);
+      rejectRegionAlias(*over, "beam_sigma_z_mm", "sigma_z_mm",
+                        region.has_value());
+      oc = readGammaGammaOverlayConfig(*over, oc);
       over->rejectUnknownKeys();
     }
     if (m_config.overlayBx > 0) {

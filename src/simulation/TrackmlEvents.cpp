@@ -1,13 +1,16 @@
 #include "conftrack/simulation/TrackmlEvents.hpp"
 
+#include "conftrack/core/Error.hpp"
 #include "conftrack/core/Random.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 namespace conftrack {
@@ -176,6 +179,75 @@ Simulator::Config trackmlSimulatorConfig() {
   return config;
 }
 
+std::vector<TrackmlInteraction> findTrackmlInteractions(
+    const std::vector<Particle>& particles) {
+  std::map<std::uint64_t, TrackmlInteraction> byId;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const std::uint64_t id = trackmlVertexId(particles[i].id);
+    if (id == 0) {
+      throw InputError("particle_id " + std::to_string(particles[i].id) +
+                       ": no TrackML vertex id (bits 52-63 are 0); moving "
+                       "the interactions needs the particle ids of TrackML "
+                       "particle files");
+    }
+    TrackmlInteraction& interaction = byId[id];
+    interaction.vertexId = id;
+    interaction.particles.push_back(i);
+  }
+  std::vector<TrackmlInteraction> out;
+  out.reserve(byId.size());
+  for (auto& [id, interaction] : byId) {
+    // Production positions counted over the generation-0 particles (all
+    // particles if there is none).
+    bool anyPrimary = false;
+    for (std::size_t i : interaction.particles) {
+      anyPrimary |= trackmlGeneration(particles[i].id) == 0;
+    }
+    auto key = [](const Vector3& v) {
+      return std::tuple(v.head<2>().norm(), v.z(), v.x(), v.y());
+    };
+    std::map<std::tuple<double, double, double, double>,
+             std::pair<std::size_t, Vector3>>
+        counts;  // ordered by radius, then z: ties resolve to the first
+    for (std::size_t i : interaction.particles) {
+      const Vector3& v = particles[i].vertex;
+      if ((!anyPrimary || trackmlGeneration(particles[i].id) == 0) &&
+          v.head<2>().norm() < kTrackmlBeamLineRadius) {
+        auto& entry = counts[key(v)];
+        ++entry.first;
+        entry.second = particles[i].vertex;
+      }
+    }
+    std::size_t best = 0;
+    for (const auto& [k, entry] : counts) {
+      if (entry.first > best) {
+        best = entry.first;
+        interaction.vertex = entry.second;
+      }
+    }
+    out.push_back(std::move(interaction));
+  }
+  return out;
+}
+
+std::vector<Particle> moveTrackmlInteractions(std::vector<Particle> particles,
+                                              const LuminousRegion& region,
+                                              RandomEngine& rng) {
+  const LuminousRegion::Config& r = region.config();
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (const TrackmlInteraction& interaction :
+       findTrackmlInteractions(particles)) {
+    const double z =
+        r.position.z() + (r.sigmaZ > 0.0 ? r.sigmaZ * normal(rng) : 0.0);
+    const double shift =
+        z - (interaction.vertex ? interaction.vertex->z() : 0.0);
+    for (std::size_t i : interaction.particles) {
+      particles[i].vertex.z() += shift;
+    }
+  }
+  return particles;
+}
+
 TrackmlEventSimulation::TrackmlEventSimulation(
     const Detector& detector, std::shared_ptr<const ModuleLayout> modules,
     Config config)
@@ -190,6 +262,10 @@ TrackmlEventSimulation::TrackmlEventSimulation(
   if (!(m_config.minPt >= 0.0)) {
     throw std::invalid_argument(
         "TrackmlEventSimulation: minPt must not be negative");
+  }
+  if (m_config.luminousRegion) {
+    m_region.emplace(requireValidRegion(
+        "TrackmlEventSimulation", "luminousRegion", *m_config.luminousRegion));
   }
 }
 
@@ -241,9 +317,16 @@ void TrackmlEventSimulation::addNoise(std::size_t l, std::size_t count,
 }
 
 Event TrackmlEventSimulation::simulate(
-    std::uint64_t eventNumber, const std::vector<Particle>& particles) const {
+    std::uint64_t eventNumber, const std::vector<Particle>& input) const {
   Event event;
   event.number = eventNumber;
+  std::vector<Particle> moved;
+  if (m_region) {
+    RandomEngine rng =
+        makeEngine(m_config.seed, eventNumber, RandomStream::eLuminousRegion);
+    moved = moveTrackmlInteractions(input, *m_region, rng);
+  }
+  const std::vector<Particle>& particles = m_region ? moved : input;
   RandomEngine simRng =
       makeEngine(m_config.seed, eventNumber, RandomStream::eSimulation);
   if (m_config.minPt > 0.0) {

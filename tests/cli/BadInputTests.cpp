@@ -347,6 +347,55 @@ const std::vector<BadInput>& cases() {
       {"GeneratorValue", nothing,
        "simulate --sample muons --gen p_GeV=-3 -n 1 -o {dir}/o",
        R"(^--gen options:2: key 'generator\.p_GeV': value -3 out of range \(0, inf\]$)"},
+      // ------------------------------------------------ luminous region
+      {"LuminousRegionUnknownPreset", nothing,
+       "simulate --luminous-region lep -n 1 -o {dir}/o",
+       R"(^--luminous-region: unknown luminous region 'lep' \(presets: clic3tev, fccee-z, fccee-ttbar, hllhc, trackml-kaggle, point\) \(run with --help for usage\)$)"},
+      {"BeamSigmaZNegative", nothing,
+       "simulate --beam-sigma-z -1 -n 1 -o {dir}/o",
+       R"(^--beam-sigma-z: -1 is out of range \[0, 1000\])"},
+      {"BeamSigmaZNaNTrackml", nothing,
+       "simulate-trackml -i {dir} -o {dir}/o --beam-sigma-z nan",
+       R"(^--beam-sigma-z: 'nan' is not a finite number in \[0, 1000\])"},
+      {"LuminousRegionNegativeWidth",
+       [](const fs::path& d) {
+         writeFile(d / "gen.toml", "[luminous_region]\nsigma_z_mm = -0.1\n");
+       },
+       "simulate --config {dir}/gen.toml -n 1 -o {dir}/o",
+       R"(^\S+/gen\.toml:2: key 'luminous_region\.sigma_z_mm': value -0\.1 out of range \[0, 1000\]$)"},
+      {"LuminousRegionNaNPosition",
+       [](const fs::path& d) {
+         writeFile(d / "gen.toml", "[luminous_region]\nz_mm = nan\n");
+       },
+       "simulate --config {dir}/gen.toml -n 1 -o {dir}/o",
+       R"(^\S+/gen\.toml:2: key 'luminous_region\.z_mm': must be finite$)"},
+      {"LuminousRegionUnknownPresetInFile",
+       [](const fs::path& d) {
+         writeFile(d / "gen.toml", "[luminous_region]\npreset = \"lep\"\n");
+       },
+       "simulate --config {dir}/gen.toml -n 1 -o {dir}/o",
+       R"(^\S+/gen\.toml:2: key 'luminous_region\.preset': unknown preset 'lep' \(use clic3tev, .*, point\)$)"},
+      {"LuminousRegionUnknownKey",
+       [](const fs::path& d) {
+         writeFile(d / "gen.toml", "[luminous_region]\nsigma_z = 0.05\n");
+       },
+       "simulate --config {dir}/gen.toml -n 1 -o {dir}/o",
+       R"(^\S+/gen\.toml:2: key 'luminous_region\.sigma_z': unknown key$)"},
+      {"LuminousRegionInFileAndOption",
+       [](const fs::path& d) {
+         writeFile(d / "gen.toml", "[luminous_region]\npreset = \"hllhc\"\n");
+       },
+       "simulate --config {dir}/gen.toml --luminous-region hllhc -n 1 -o "
+       "{dir}/o",
+       R"(^\S+/gen\.toml:1: table 'luminous_region': the luminous region is also set on the command line \(--luminous-region/--beam-sigma-z\): give it in one place$)"},
+      {"BeamSigmaZKeyWithRegion", nothing,
+       "simulate --gen beam_sigma_z_mm=0.05 --luminous-region hllhc -n 1 -o "
+       "{dir}/o",
+       R"(^--gen options:2: key 'generator\.beam_sigma_z_mm': the luminous region is already set \(\[luminous_region\] or --luminous-region/--beam-sigma-z\); give sigma_z_mm there instead$)"},
+      {"TrackmlIdsWithoutVertexId",
+       [](const fs::path& d) { copyBase("ev", d / "ev"); },
+       "simulate-trackml -i {dir}/ev -o {dir}/o --luminous-region hllhc",
+       R"(^\S+/ev/event000000001-particles\.csv: particle_id 1: no TrackML vertex id \(bits 52-63 are 0\); moving the interactions needs the particle ids of TrackML particle files$)"},
       {"DisplayEventNegative",
        [](const fs::path& d) { writeHits(d, kHeader + kRows); },
        "display -i {dir}/ev --event -3 -o {dir}/d.png",

@@ -659,7 +659,7 @@ pt_mean_GeV = 0.4
   EXPECT_EQ(tt->config().process, TtbarGenerator::Process::eBbbar);
   EXPECT_DOUBLE_EQ(tt->config().sqrtS, 500.0 * GeV);
   EXPECT_DOUBLE_EQ(tt->config().nchA, 1.0);
-  EXPECT_DOUBLE_EQ(tt->config().beamSpotSigmaZ, 0.05 * mm);
+  EXPECT_DOUBLE_EQ(tt->config().luminousRegion.sigmaZ, 0.05 * mm);
   const auto overlay = makeOverlay(top.getTable("overlay"));
   EXPECT_EQ(overlay->config().numBunchCrossings, 20u);
   EXPECT_EQ(overlay->bunchCrossingOffset(0), -4);

@@ -3,6 +3,7 @@
 /// and TrackML-like events from the fast simulation.
 
 #include "conftrack/core/DataFiles.hpp"
+#include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
@@ -17,6 +18,8 @@
 #include <map>
 #include <numeric>
 #include <sstream>
+
+#include "InputErrorOf.hpp"
 
 namespace conftrack {
 namespace {
@@ -236,15 +239,14 @@ TEST(TrackmlEvents, NoiseAndPtCut) {
                std::invalid_argument);
 }
 
-// The particles of a Kaggle event: about as many reconstructable particles
-// as the real event (7563 against 6797 for event 1001: see the differences
-// listed at TrackmlEventSimulation).
-TEST(TrackmlEvents, KaggleParticles) {
-  fs::path dir = kTrackmlData / "train_100_events_no_truth";
-  // The particles file is read here without io: a few columns suffice.
-  std::string text = hepmc::loadFile(dir / "event000001001-particles.csv.gz");
+/// The particles of a shipped Kaggle event, read here without io (a few
+/// columns suffice); `realReconstructable` counts those with nhits >= 4.
+std::vector<Particle> kaggleParticles(
+    std::uint64_t event, std::size_t* realReconstructable = nullptr) {
+  const fs::path dir = kTrackmlData / "train_100_events_no_truth";
+  const std::string text = hepmc::loadFile(
+      dir / ("event00000" + std::to_string(event) + "-particles.csv.gz"));
   std::vector<Particle> particles;
-  std::size_t realReconstructable = 0;
   std::size_t pos = text.find('\n') + 1;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
@@ -265,9 +267,21 @@ TEST(TrackmlEvents, KaggleParticles) {
     p.vertex = Vector3(v[1], v[2], v[3]);
     p.momentum = Vector3(v[4], v[5], v[6]);
     p.charge = v[7];
-    realReconstructable += v[8] >= 4 ? 1 : 0;
+    if (realReconstructable != nullptr) {
+      *realReconstructable += v[8] >= 4 ? 1 : 0;
+    }
     particles.push_back(p);
   }
+  return particles;
+}
+
+// The particles of a Kaggle event: about as many reconstructable particles
+// as the real event (7563 against 6797 for event 1001: see the differences
+// listed at TrackmlEventSimulation).
+TEST(TrackmlEvents, KaggleParticles) {
+  std::size_t realReconstructable = 0;
+  const std::vector<Particle> particles =
+      kaggleParticles(1001, &realReconstructable);
   ASSERT_EQ(particles.size(), 8915u);
   ASSERT_EQ(realReconstructable, 6797u);
   TrackmlEventSimulation::Config config;
@@ -283,5 +297,209 @@ TEST(TrackmlEvents, KaggleParticles) {
   EXPECT_LT(reconstructable, 1.25 * realReconstructable);
 }
 
+// ---------------------------------------------- interactions and their z
+
+/// A TrackML particle_id: vertex id, generation, and a running number.
+std::uint64_t trackmlId(std::uint64_t vertex, std::uint64_t generation,
+                        std::uint64_t n) {
+  return (vertex << 52) | (n << 36) | (generation << 24);
+}
+
+Particle particleAt(std::uint64_t id, const Vector3& vertex) {
+  Particle p = makeParticle(id, 1.0, 0.5, 0.2);
+  p.vertex = vertex;
+  return p;
+}
+
+/// The z of the interaction points of a particle list.
+std::vector<double> interactionZ(const std::vector<Particle>& particles) {
+  std::vector<double> z;
+  for (const TrackmlInteraction& i : findTrackmlInteractions(particles)) {
+    if (i.vertex) {
+      z.push_back(i.vertex->z());
+    }
+  }
+  return z;
+}
+
+/// Sample standard deviation.
+double spreadOf(const std::vector<double>& x) {
+  const double mean =
+      std::accumulate(x.begin(), x.end(), 0.0) / static_cast<double>(x.size());
+  double sum2 = 0.0;
+  for (double v : x) {
+    sum2 += (v - mean) * (v - mean);
+  }
+  return std::sqrt(sum2 / static_cast<double>(x.size() - 1));
+}
+
+TEST(TrackmlInteractions, GroupedByVertexIdWithTheirSecondaries) {
+  const Vector3 pv1(0.01, -0.02, 3.0);
+  const Vector3 pv2(-0.01, 0.0, -4.0);
+  const Vector3 decay(0.3, 0.2, 5.0);  // e.g. a charm decay, near the beam
+  const Vector3 conversion(300.0, 10.0, 250.0);
+  std::vector<Particle> particles = {
+      particleAt(trackmlId(2, 0, 1), pv2),
+      particleAt(trackmlId(1, 0, 1), pv1),
+      particleAt(trackmlId(1, 0, 2), pv1),
+      particleAt(trackmlId(1, 0, 3), pv1),
+      particleAt(trackmlId(1, 0, 4), decay),
+      particleAt(trackmlId(1, 0, 5), decay),
+      particleAt(trackmlId(1, 1, 6), conversion),
+      particleAt(trackmlId(1, 1, 7), conversion),
+      particleAt(trackmlId(1, 1, 8), conversion),
+      particleAt(trackmlId(1, 1, 9), conversion),
+      particleAt(trackmlId(2, 0, 2), pv2),
+      // Only the decay products of a long-lived particle: no point.
+      particleAt(trackmlId(3, 0, 1), Vector3(20.0, 5.0, 100.0)),
+  };
+  const auto interactions = findTrackmlInteractions(particles);
+  ASSERT_EQ(interactions.size(), 3u);
+  EXPECT_EQ(interactions[0].vertexId, 1u);
+  EXPECT_EQ(interactions[0].particles,
+            (std::vector<std::size_t>{1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  // The conversion has the most particles, but generation 1 and far from
+  // the beam line; the decay has fewer generation-0 particles.
+  EXPECT_EQ(interactions[0].vertex, pv1);
+  EXPECT_EQ(interactions[1].vertexId, 2u);
+  EXPECT_EQ(interactions[1].particles, (std::vector<std::size_t>{0, 10}));
+  EXPECT_EQ(interactions[1].vertex, pv2);
+  EXPECT_EQ(interactions[2].vertexId, 3u);
+  EXPECT_FALSE(interactions[2].vertex.has_value());
+  // A tie goes to the position nearest the beam line; a majority wins.
+  particles.push_back(particleAt(trackmlId(1, 0, 10), decay));
+  EXPECT_EQ(findTrackmlInteractions(particles)[0].vertex, pv1);
+  particles.push_back(particleAt(trackmlId(1, 0, 11), decay));
+  EXPECT_EQ(findTrackmlInteractions(particles)[0].vertex, decay);
+  // Ids without a vertex id (conftrack numbers its particles 1..n).
+  particles.push_back(particleAt(17, pv1));
+  EXPECT_EQ(test::inputErrorOf([&] { findTrackmlInteractions(particles); }),
+            "particle_id 17: no TrackML vertex id (bits 52-63 are 0); moving "
+            "the interactions needs the particle ids of TrackML particle "
+            "files");
+}
+
+// 4000 interactions of a primary and a displaced decay: the points follow
+// the region in z (width within 5 / sqrt(8000) = 5.6 %), every particle
+// keeps its offset from its point, x and y are kept.
+TEST(TrackmlInteractions, MovedAlongZKeepingDisplacements) {
+  auto source = makeEngine(1, 1, RandomStream::eSignalGenerator);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<Particle> particles;
+  for (std::uint64_t v = 1; v <= 4000; ++v) {
+    const Vector3 pv(0.015 * normal(source), 0.015 * normal(source),
+                     5.5 * normal(source));
+    const Vector3 decay = pv + Vector3(1.0, 2.0, 3.0 * normal(source));
+    particles.push_back(particleAt(trackmlId(v, 0, 1), pv));
+    particles.push_back(particleAt(trackmlId(v, 0, 2), pv));
+    particles.push_back(particleAt(trackmlId(v, 0, 3), decay));
+    particles.push_back(particleAt(trackmlId(v, 2, 4), decay * 10.0));
+  }
+  EXPECT_NEAR(spreadOf(interactionZ(particles)), 5.5,
+              5.0 * 5.5 / std::sqrt(8000));
+  const LuminousRegion hllhc(LuminousRegion::findPreset("hllhc")->config);
+  auto rng = makeEngine(1, 1, RandomStream::eLuminousRegion);
+  const std::vector<Particle> moved =
+      moveTrackmlInteractions(particles, hllhc, rng);
+  ASSERT_EQ(moved.size(), particles.size());
+  EXPECT_NEAR(spreadOf(interactionZ(moved)), 50.0,
+              5.0 * 50.0 / std::sqrt(8000));
+  for (std::size_t i = 0; i < moved.size(); i += 4) {
+    const double shift = moved[i].vertex.z() - particles[i].vertex.z();
+    for (std::size_t k = i; k < i + 4; ++k) {
+      EXPECT_EQ(moved[k].id, particles[k].id);
+      EXPECT_EQ(moved[k].vertex.x(), particles[k].vertex.x());
+      EXPECT_EQ(moved[k].vertex.y(), particles[k].vertex.y());
+      EXPECT_NEAR(moved[k].vertex.z() - particles[k].vertex.z(), shift, 1e-9);
+      EXPECT_EQ(moved[k].momentum, particles[k].momentum);
+    }
+  }
+  // Deterministic: the same stream moves them the same way.
+  auto again = makeEngine(1, 1, RandomStream::eLuminousRegion);
+  EXPECT_EQ(moveTrackmlInteractions(particles, hllhc, again)[7].vertex,
+            moved[7].vertex);
+}
+
+// By default every particle keeps its own vertex; with a region the event
+// holds the moved particles, the same for the same (seed, event).
+TEST(TrackmlEvents, RealVerticesKeptUnlessARegionIsGiven) {
+  const std::vector<Particle> particles = {
+      particleAt(trackmlId(1, 0, 1), Vector3(0.01, 0.0, 2.0)),
+      particleAt(trackmlId(1, 0, 2), Vector3(0.01, 0.0, 2.0)),
+      particleAt(trackmlId(2, 0, 1), Vector3(0.0, 0.02, -7.0))};
+  TrackmlEventSimulation::Config config;
+  const Event kept =
+      TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config)
+          .simulate(5, particles);
+  ASSERT_EQ(kept.particles.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(kept.particles[i].vertex, particles[i].vertex);
+  }
+  config.luminousRegion = LuminousRegion::findPreset("hllhc")->config;
+  const TrackmlEventSimulation hl(trackmlDetector(), moduleLayout(), config);
+  const Event moved = hl.simulate(5, particles);
+  ASSERT_EQ(moved.particles.size(), 3u);
+  EXPECT_NE(moved.particles[0].vertex.z(), 2.0);
+  EXPECT_EQ(moved.particles[0].vertex, moved.particles[1].vertex);
+  EXPECT_EQ(moved.particles[2].vertex.x(), 0.0);
+  EXPECT_EQ(moved.particles[2].vertex.y(), 0.02);
+  const Event again = hl.simulate(5, particles);
+  EXPECT_EQ(again.particles[2].vertex, moved.particles[2].vertex);
+  EXPECT_EQ(again.hits.size(), moved.hits.size());
+  config.seed = 2;
+  const Event other =
+      TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config)
+          .simulate(5, particles);
+  EXPECT_NE(other.particles[2].vertex, moved.particles[2].vertex);
+  config.luminousRegion->sigmaZ = -1.0;
+  EXPECT_EQ(test::inputErrorOf([&] {
+              TrackmlEventSimulation(trackmlDetector(), nullptr, config);
+            }),
+            "TrackmlEventSimulation: config field 'luminousRegion.sigmaZ': "
+            "must lie in [0, 1000] mm (got -1)");
+}
+
+// The five shipped Kaggle events (713 interactions with a point): the
+// Kaggle length, 5.31 mm, within 5 standard errors (0.14 mm) of 5.5 mm;
+// moved to the HL-LHC region, 50 mm within 5 standard errors (1.33 mm);
+// every interaction moved as a whole.
+TEST(TrackmlEvents, HllhcRegionOnTheFiveRealEvents) {
+  TrackmlEventSimulation::Config config;
+  config.minPt = 1e9;  // no propagation: the vertices are the point here
+  config.luminousRegion = LuminousRegion::findPreset("hllhc")->config;
+  const TrackmlEventSimulation sim(trackmlDetector(), moduleLayout(), config);
+  std::vector<double> before;
+  std::vector<double> after;
+  for (std::uint64_t event : {1001, 1003, 1005, 1009, 1010}) {
+    const std::vector<Particle> real = kaggleParticles(event);
+    const Event moved = sim.simulate(event, real);
+    ASSERT_EQ(moved.particles.size(), real.size());
+    std::map<std::uint64_t, const Particle*> byId;
+    for (const Particle& p : moved.particles) {
+      byId[p.id] = &p;
+    }
+    std::map<std::uint64_t, double> shift;  // per vertex id
+    for (const Particle& p : real) {
+      const Particle& m = *byId.at(p.id);
+      EXPECT_EQ(m.vertex.x(), p.vertex.x());
+      EXPECT_EQ(m.vertex.y(), p.vertex.y());
+      const double dz = m.vertex.z() - p.vertex.z();
+      const auto [it, first] = shift.emplace(trackmlVertexId(p.id), dz);
+      if (!first) {
+        ASSERT_NEAR(dz, it->second, 1e-9) << "particle " << p.id;
+      }
+    }
+    for (double z : interactionZ(real)) {
+      before.push_back(z);
+    }
+    for (double z : interactionZ(moved.particles)) {
+      after.push_back(z);
+    }
+  }
+  ASSERT_EQ(before.size(), 713u);
+  ASSERT_EQ(after.size(), 713u);
+  EXPECT_NEAR(spreadOf(before), 5.5, 5.0 * 0.14);
+  EXPECT_NEAR(spreadOf(after), 50.0, 5.0 * 1.33);
+}
 }  // namespace
 }  // namespace conftrack

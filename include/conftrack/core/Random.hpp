@@ -20,6 +20,9 @@ enum class RandomStream : std::uint64_t {
   eBackgroundGenerator = 2,
   eSimulation = 3,
   eBackgroundSimulation = 4,
+  /// New interaction points of real events (simulate-trackml
+  /// --luminous-region).
+  eLuminousRegion = 5,
 };
 
 /// SplitMix64 finaliser: a bijective 64-bit mixer.

@@ -16,6 +16,7 @@ namespace units {
 // Length
 inline constexpr double mm = 1.0;
 inline constexpr double um = 1e-3 * mm;
+inline constexpr double nm = 1e-6 * mm;
 inline constexpr double cm = 10.0 * mm;
 inline constexpr double m = 1000.0 * mm;
 // Energy, momentum, mass (c = 1 in momenta and masses)

@@ -8,12 +8,14 @@
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/Simulator.hpp"
 #include "conftrack/simulation/generators/EventGenerator.hpp"
 #include "conftrack/simulation/generators/GammaGammaOverlay.hpp"
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,11 @@ class EventSimulation {
     std::string generatorToml;
     /// Name of the source of generatorToml, for error messages.
     std::string generatorTomlSource = "generator settings";
+    /// Luminous region of the signal and of every overlay interaction
+    /// (e.g. from --luminous-region); unset: a [luminous_region] table of
+    /// generatorToml, else each generator's default. Setting both is an
+    /// InputError.
+    std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
     /// Bunch crossings of gamma gamma -> hadrons overlaid (0: none). The
     /// physics BX sits at position N/3 of the train (10 of 30, as CLIC)
     /// unless the [overlay] table sets physics_bx.

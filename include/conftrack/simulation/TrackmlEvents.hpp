@@ -10,12 +10,16 @@
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Particle.hpp"
+#include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/Simulator.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace conftrack {
@@ -52,6 +56,76 @@ inline constexpr double kTrackmlInteractionLengthX0 = 1.2;
 /// docs/validation.md).
 Simulator::Config trackmlSimulatorConfig();
 
+/// The vertex id of a TrackML particle_id: bits 52-63, the field
+/// `vertex_id` of trackml-library's decode_particle_id (mask
+/// 0xfff0000000000000). It numbers the interactions of the event: every
+/// particle of one proton-proton interaction carries it, the secondaries of
+/// the detector simulation included.
+constexpr std::uint64_t trackmlVertexId(std::uint64_t particleId) {
+  return particleId >> 52;
+}
+
+/// The generation of a TrackML particle_id: bits 24-35 (`generation` of
+/// decode_particle_id); 0 for the event generator's particles, >= 1 for
+/// particles made in the detector simulation.
+constexpr std::uint64_t trackmlGeneration(std::uint64_t particleId) {
+  return (particleId >> 24) & 0xfff;
+}
+
+/// Production positions closer than this to the beam line can be an
+/// interaction point [mm]. The Kaggle interaction points have a transverse
+/// spread of 15 um; decay vertices beyond 1 mm are far more common than
+/// interaction points there.
+inline constexpr double kTrackmlBeamLineRadius = 1.0 * units::mm;
+
+/// One interaction of a TrackML event: the particles with one vertex id.
+struct TrackmlInteraction {
+  /// The vertex id (trackmlVertexId), >= 1.
+  std::uint64_t vertexId = 0;
+  /// The interaction point [mm]: of the production positions within
+  /// kTrackmlBeamLineRadius of the beam line, the one shared by the most
+  /// generation-0 particles of the interaction (all its particles if none
+  /// has generation 0; ties: the one nearest the beam line, then the lowest
+  /// z). The other positions are decays and secondaries displaced from it.
+  /// Unset if no particle of the interaction starts near the beam line (its
+  /// primaries are missing from the list, e.g. only the decay products of
+  /// a long-lived particle are there: 2 of the 715 interactions of the five
+  /// shipped events).
+  std::optional<Vector3> vertex;
+  /// Indices of its particles in the particle list, increasing.
+  std::vector<std::size_t> particles;
+};
+
+/// Groups a TrackML particle list into its interactions, in increasing
+/// vertex id. Throws InputError ("particle_id N: no TrackML vertex id ...")
+/// if a particle's vertex id is 0, i.e. the ids are not TrackML-encoded
+/// (conftrack's own generators number particles 1..n).
+std::vector<TrackmlInteraction> findTrackmlInteractions(
+    const std::vector<Particle>& particles);
+
+/// Moves every interaction of a TrackML particle list along z to a new
+/// interaction point drawn from `region`.
+///
+/// For each interaction in increasing vertex id (findTrackmlInteractions)
+/// one z is drawn, z' = region z + sigmaZ * N(0, 1) (one normal number from
+/// `rng`, none if sigmaZ = 0), and all its particles move by z' - z of its
+/// interaction point (by z' for an interaction without one, as if it were
+/// at z = 0, the centre of the Kaggle events). The interaction points then
+/// follow the region's z distribution while every particle keeps its
+/// displacement from its interaction point, so decay products and
+/// secondaries stay attached to their primaries. x, y and times are kept:
+/// the transverse sizes of the
+/// Kaggle events (15 um) and of HL-LHC (12.5 um) agree, and an interaction
+/// whose primaries are missing from the list would otherwise be moved
+/// across the detector.
+/// @param particles a TrackML particle list (ids TrackML-encoded)
+/// @param region the target luminous region (only its z is used)
+/// @param rng the event's stream for the new interaction points
+/// @return the particles, in the same order, with moved vertices
+std::vector<Particle> moveTrackmlInteractions(std::vector<Particle> particles,
+                                              const LuminousRegion& region,
+                                              RandomEngine& rng);
+
 /// Simulates TrackML-like events from given particles.
 ///
 /// With a ModuleLayout of the real modules (buildTrackmlModuleLayout), the
@@ -87,12 +161,18 @@ class TrackmlEventSimulation {
     double minPt = 0.0;
     /// Run seed; every event's streams derive from (seed, event number).
     std::uint64_t seed = 1;
+    /// Unset (the default): every particle keeps its own vertex, as in the
+    /// input. Set: the interactions are first moved along z to points drawn
+    /// from this region (moveTrackmlInteractions, stream eLuminousRegion of
+    /// (seed, event number)), e.g. preset "hllhc" for an HL-LHC length of
+    /// 50 mm instead of the Kaggle events' 5.5 mm.
+    std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
   };
 
   /// `modules` (may be null: ideal layers) holds the sensors of `detector`;
   /// the detector must outlive this. Throws std::invalid_argument for a
   /// noise fraction outside [0, 1), a negative minPt, or a layout built for
-  /// another detector.
+  /// another detector; InputError for a bad luminous region.
   TrackmlEventSimulation(const Detector& detector,
                          std::shared_ptr<const ModuleLayout> modules,
                          Config config);
@@ -100,10 +180,11 @@ class TrackmlEventSimulation {
   const Config& config() const { return m_config; }
 
   /// Simulates `particles` (e.g. a Kaggle particles file: status 1 and
-  /// pdg 0, simulated with the pion mass) as event `eventNumber`:
-  /// particle hits, then noise; hits sorted by (TrackML volume, layer,
-  /// module) as in the Kaggle files and numbered 1..N; truth with the
-  /// TrackML weights; particles with their simulated nhits.
+  /// pdg 0, simulated with the pion mass) as event `eventNumber`: with a
+  /// luminous region, the interactions are moved first; particle hits,
+  /// then noise; hits sorted by (TrackML volume, layer, module) as in the
+  /// Kaggle files and numbered 1..N; truth with the TrackML weights;
+  /// particles (moved, if so) with their simulated nhits.
   Event simulate(std::uint64_t eventNumber,
                  const std::vector<Particle>& particles) const;
 
@@ -115,6 +196,7 @@ class TrackmlEventSimulation {
   const Detector* m_detector;
   std::shared_ptr<const ModuleLayout> m_modules;
   Config m_config;
+  std::optional<LuminousRegion> m_region;
   Simulator m_simulator;
 };
 

@@ -29,7 +29,10 @@ void requireRange(const std::string& field, double v, double lo, double hi,
 
 }  // namespace
 
-GammaGammaOverlay::GammaGammaOverlay(const Config& config) : m_cfg(config) {
+GammaGammaOverlay::GammaGammaOverlay(const Config& config)
+    : m_cfg(config),
+      m_region(requireValidRegion("GammaGammaOverlay", "luminousRegion",
+                                  config.luminousRegion)) {
   const Config& c = m_cfg;
   if (c.numBunchCrossings < 1 || c.numBunchCrossings > 100000) {
     fail("numBunchCrossings", "must lie in [1, 100000]");
@@ -47,7 +50,6 @@ GammaGammaOverlay::GammaGammaOverlay(const Config& config) : m_cfg(config) {
   requireRange("etaMax", c.etaMax, 0.0, 20.0);
   requireRange("kaonFraction", c.kaonFraction, 0.0, 1.0);
   requireRange("protonFraction", c.protonFraction, 0.0, 1.0 - c.kaonFraction);
-  requireRange("beamSpotSigmaZ", c.beamSpotSigmaZ, 0.0, 1e3);
 }
 
 std::vector<Particle> GammaGammaOverlay::doGenerate(
@@ -75,7 +77,10 @@ std::vector<Particle> GammaGammaOverlay::doGenerate(
         static_cast<double>(bunchCrossingOffset(bx)) * c.bunchSpacing;
     const int nEvents = poisson(c.eventsPerBunchCrossing);
     for (int ev = 0; ev < nEvents; ++ev) {
-      const Vector3 vertex(0.0, 0.0, c.beamSpotSigmaZ * gauss(rng));
+      // Each gamma gamma event has its own interaction point. One normal
+      // distribution for the whole train: consecutive vertices share the
+      // pairs of numbers it draws, as before the luminous region existed.
+      const LuminousRegion::Vertex vertex = m_region.sample(rng, gauss);
       const int nCharged = poisson(c.meanCharged);
       // Charges in +- pairs keep each gamma gamma event (nearly) neutral.
       const int firstSign = uniform(rng) < 0.5 ? 1 : -1;
@@ -100,8 +105,8 @@ std::vector<Particle> GammaGammaOverlay::doGenerate(
         p.pdg = q * species;
         p.status = 1;
         p.charge = q;
-        p.vertex = vertex;
-        p.time = time;
+        p.vertex = vertex.position;
+        p.time = time + vertex.time;
         p.momentum = Vector3(pt * std::cos(phi), pt * std::sin(phi),
                              pt * std::sinh(eta));
         p.origin = ParticleOrigin::eBackground;

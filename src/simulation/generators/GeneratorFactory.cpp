@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <limits>
+#include <optional>
+#include <string_view>
 
 namespace conftrack {
 
@@ -32,7 +34,56 @@ void readIf(const ConfigTable& t, std::string_view key, double unit,
   }
 }
 
+/// Range of a luminous-region width in mm.
+Range sigmaRange() {
+  return Range::closed(0.0, LuminousRegion::kMaxLength / mm);
+}
+
 }  // namespace
+
+void rejectRegionAlias(const ConfigTable& t, std::string_view key,
+                       std::string_view replacement, bool regionSet) {
+  if (regionSet && t.has(key)) {
+    t.fail(key,
+           "the luminous region is already set ([luminous_region] or "
+           "--luminous-region/--beam-sigma-z); give " +
+               std::string(replacement) + " there instead");
+  }
+}
+
+LuminousRegion::Config readLuminousRegionConfig(const ConfigTable& t) {
+  LuminousRegion::Config c;
+  if (t.has("preset")) {
+    const std::string name = t.getString("preset");
+    const LuminousRegion::Preset* preset = LuminousRegion::findPreset(name);
+    if (preset == nullptr) {
+      t.fail("preset", "unknown preset '" + name + "' (use " +
+                           LuminousRegion::presetNames() + ")");
+    }
+    c = preset->config;
+  }
+  const Range position = Range::closed(-LuminousRegion::kMaxLength / mm,
+                                       LuminousRegion::kMaxLength / mm);
+  const Range time = Range::closed(-LuminousRegion::kMaxTime / ns,
+                                   LuminousRegion::kMaxTime / ns);
+  if (t.has("x_mm")) {
+    c.position.x() = t.getDouble("x_mm", position) * mm;
+  }
+  if (t.has("y_mm")) {
+    c.position.y() = t.getDouble("y_mm", position) * mm;
+  }
+  if (t.has("z_mm")) {
+    c.position.z() = t.getDouble("z_mm", position) * mm;
+  }
+  readIf(t, "t_ns", ns, c.time, time);
+  readIf(t, "sigma_x_mm", mm, c.sigmaX, sigmaRange());
+  readIf(t, "sigma_y_mm", mm, c.sigmaY, sigmaRange());
+  readIf(t, "sigma_z_mm", mm, c.sigmaZ, sigmaRange());
+  readIf(t, "sigma_t_ns", ns, c.sigmaT,
+         Range::closed(0.0, LuminousRegion::kMaxTime / ns));
+  t.rejectUnknownKeys();
+  return c;
+}
 
 ParticleGun::Config readParticleGunConfig(const ConfigTable& t) {
   ParticleGun::Config c;
@@ -123,11 +174,14 @@ ParticleGun::Config readParticleGunConfig(const ConfigTable& t) {
       t.getDouble("phi_max_deg", 180.0, Range::closed(c.phiMin / degree, 360)) *
       degree;
   if (t.has("vertex_mm")) {
-    const auto v = t.getDoubleArray("vertex_mm");
+    // The position of the gun's luminous region (a point by default).
+    const Range inside = Range::closed(-LuminousRegion::kMaxLength / mm,
+                                       LuminousRegion::kMaxLength / mm);
+    const auto v = t.getDoubleArray("vertex_mm", inside);
     if (v.size() != 3) {
       t.fail("vertex_mm", "expected [x, y, z]");
     }
-    c.vertex = Vector3(v[0], v[1], v[2]) * mm;
+    c.luminousRegion.position = Vector3(v[0], v[1], v[2]) * mm;
   }
   readIf(t, "r_min_mm", mm, c.rMin, Range::nonNegative());
   readIf(t, "r_max_mm", mm, c.rMax, Range{c.rMin / mm, Range{}.max});
@@ -168,7 +222,7 @@ TtbarGenerator::Config readTtbarConfig(const ConfigTable& t,
   readIf(t, "b_decay_pi0_mean", 1.0, c.bDecayPi0Mean, nonNeg);
   readIf(t, "b_semileptonic_fraction", 1.0, c.bSemileptonicFraction, fraction);
   readIf(t, "b_decay_kaon_fraction", 1.0, c.bDecayKaonFraction, fraction);
-  readIf(t, "beam_sigma_z_mm", mm, c.beamSpotSigmaZ, nonNeg);
+  readIf(t, "beam_sigma_z_mm", mm, c.luminousRegion.sigmaZ, sigmaRange());
   construct<TtbarGenerator>(t, c);
   return c;
 }
@@ -187,8 +241,9 @@ HepMC3Generator::Config readHepMC3Config(const ConfigTable& t) {
   return c;
 }
 
-GammaGammaOverlay::Config readGammaGammaOverlayConfig(const ConfigTable& t) {
-  GammaGammaOverlay::Config c;
+GammaGammaOverlay::Config readGammaGammaOverlayConfig(
+    const ConfigTable& t, const GammaGammaOverlay::Config& defaults) {
+  GammaGammaOverlay::Config c = defaults;
   c.numBunchCrossings = static_cast<std::size_t>(
       t.getInt("bunch_crossings", 30, Range::closed(1, 100000)));
   c.physicsBunchCrossing = static_cast<std::size_t>(
@@ -205,47 +260,61 @@ GammaGammaOverlay::Config readGammaGammaOverlayConfig(const ConfigTable& t) {
   readIf(t, "eta_max", 1.0, c.etaMax, Range::closed(0, 20));
   readIf(t, "kaon_fraction", 1.0, c.kaonFraction, Range::closed(0, 1));
   readIf(t, "proton_fraction", 1.0, c.protonFraction, Range::closed(0, 1));
-  readIf(t, "beam_sigma_z_mm", mm, c.beamSpotSigmaZ, nonNeg);
+  readIf(t, "beam_sigma_z_mm", mm, c.luminousRegion.sigmaZ, sigmaRange());
   construct<GammaGammaOverlay>(t, c);
   return c;
 }
 
-std::unique_ptr<EventGenerator> makeGenerator(const std::string& sample) {
+std::unique_ptr<EventGenerator> makeGenerator(
+    const std::string& sample,
+    const std::optional<LuminousRegion::Config>& region) {
   if (sample == "muons" || sample == "gun") {
-    return std::make_unique<ParticleGun>(ParticleGun::Config{});
+    ParticleGun::Config c;
+    c.luminousRegion = region.value_or(c.luminousRegion);
+    return std::make_unique<ParticleGun>(c);
   }
-  if (sample == "ttbar3tev") {
-    return std::make_unique<TtbarGenerator>(
-        TtbarGenerator::Config::ttbar3TeV());
-  }
-  if (sample == "bb500") {
-    return std::make_unique<TtbarGenerator>(TtbarGenerator::Config::bb500());
+  if (sample == "ttbar3tev" || sample == "bb500") {
+    TtbarGenerator::Config c = sample == "bb500"
+                                   ? TtbarGenerator::Config::bb500()
+                                   : TtbarGenerator::Config::ttbar3TeV();
+    c.luminousRegion = region.value_or(c.luminousRegion);
+    return std::make_unique<TtbarGenerator>(c);
   }
   constexpr std::string_view kHepMC = "hepmc:";
   if (sample.starts_with(kHepMC) && sample.size() > kHepMC.size()) {
     HepMC3Generator::Config c;
     c.path = sample.substr(kHepMC.size());
+    c.luminousRegion = region;
     return std::make_unique<HepMC3Generator>(c);
   }
   throw InputError("unknown sample '" + sample +
                    "' (use muons, gun, ttbar3tev, bb500, hepmc:<path>)");
 }
 
-std::unique_ptr<EventGenerator> makeGenerator(const ConfigTable& table) {
+std::unique_ptr<EventGenerator> makeGenerator(
+    const ConfigTable& table,
+    const std::optional<LuminousRegion::Config>& region) {
   const std::string sample = table.getString("sample");
   std::unique_ptr<EventGenerator> gen;
   if (sample == "muons" || sample == "gun") {
-    const auto cfg = readParticleGunConfig(table);
+    rejectRegionAlias(table, "vertex_mm", "x_mm, y_mm, z_mm",
+                      region.has_value());
+    auto cfg = readParticleGunConfig(table);
+    cfg.luminousRegion = region.value_or(cfg.luminousRegion);
     table.rejectUnknownKeys();
     gen = std::make_unique<ParticleGun>(cfg);
   } else if (sample == "ttbar3tev" || sample == "bb500") {
-    const auto cfg = readTtbarConfig(
-        table, sample == "bb500" ? TtbarGenerator::Config::bb500()
-                                 : TtbarGenerator::Config::ttbar3TeV());
+    rejectRegionAlias(table, "beam_sigma_z_mm", "sigma_z_mm",
+                      region.has_value());
+    auto defaults = sample == "bb500" ? TtbarGenerator::Config::bb500()
+                                      : TtbarGenerator::Config::ttbar3TeV();
+    defaults.luminousRegion = region.value_or(defaults.luminousRegion);
+    const auto cfg = readTtbarConfig(table, defaults);
     table.rejectUnknownKeys();
     gen = std::make_unique<TtbarGenerator>(cfg);
   } else if (sample == "hepmc") {
-    const auto cfg = readHepMC3Config(table);
+    auto cfg = readHepMC3Config(table);
+    cfg.luminousRegion = region;
     table.rejectUnknownKeys();
     // File problems are reported at the file, not at the table.
     gen = std::make_unique<HepMC3Generator>(cfg);
@@ -256,8 +325,13 @@ std::unique_ptr<EventGenerator> makeGenerator(const ConfigTable& table) {
   return gen;
 }
 
-std::unique_ptr<GammaGammaOverlay> makeOverlay(const ConfigTable& table) {
-  const auto cfg = readGammaGammaOverlayConfig(table);
+std::unique_ptr<GammaGammaOverlay> makeOverlay(
+    const ConfigTable& table,
+    const std::optional<LuminousRegion::Config>& region) {
+  rejectRegionAlias(table, "beam_sigma_z_mm", "sigma_z_mm", region.has_value());
+  GammaGammaOverlay::Config defaults;
+  defaults.luminousRegion = region.value_or(defaults.luminousRegion);
+  const auto cfg = readGammaGammaOverlayConfig(table, defaults);
   table.rejectUnknownKeys();
   return std::make_unique<GammaGammaOverlay>(cfg);
 }

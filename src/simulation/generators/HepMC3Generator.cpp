@@ -124,6 +124,10 @@ HepMC3Generator::HepMC3Generator(const Config& config) : m_cfg(config) {
     throw InputError(
         "HepMC3Generator: config field 'maxProductionRadius': must be > 0");
   }
+  if (m_cfg.luminousRegion) {
+    m_region.emplace(requireValidRegion("HepMC3Generator", "luminousRegion",
+                                        *m_cfg.luminousRegion));
+  }
   const std::string text = hepmc::loadFile(m_cfg.path);
   m_format = hepmc::detectFormat(text);
   m_events = readHepMCEvents(text, m_cfg.path, m_cfg.maxProductionRadius);
@@ -134,8 +138,16 @@ std::string HepMC3Generator::name() const {
 }
 
 std::vector<Particle> HepMC3Generator::doGenerate(
-    RandomEngine& /*rng*/, std::uint64_t eventNumber) const {
-  return m_events[eventNumber % m_events.size()];
+    RandomEngine& rng, std::uint64_t eventNumber) const {
+  std::vector<Particle> particles = m_events[eventNumber % m_events.size()];
+  if (m_region) {
+    const LuminousRegion::Vertex shift = m_region->sample(rng);
+    for (Particle& p : particles) {
+      p.vertex += shift.position;
+      p.time += shift.time;
+    }
+  }
+  return particles;
 }
 
 }  // namespace conftrack

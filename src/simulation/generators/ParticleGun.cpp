@@ -58,7 +58,10 @@ std::optional<std::int32_t> particleGunPdgFromName(const std::string& name) {
   return std::nullopt;
 }
 
-ParticleGun::ParticleGun(const Config& config) : m_cfg(config) {
+ParticleGun::ParticleGun(const Config& config)
+    : m_cfg(config),
+      m_region(requireValidRegion("ParticleGun", "luminousRegion",
+                                  config.luminousRegion)) {
   const Config& c = m_cfg;
   if (!isSupportedSpecies(c.pdg)) {
     fail("pdg", "unsupported PDG code " + std::to_string(c.pdg) +
@@ -100,9 +103,6 @@ ParticleGun::ParticleGun(const Config& config) : m_cfg(config) {
   if (c.phiMax - c.phiMin > 2.0 * std::numbers::pi + 1e-12) {
     fail("phiMax", "phi range wider than 360 deg");
   }
-  if (!c.vertex.allFinite()) {
-    fail("vertex", "must be finite");
-  }
   if (!(std::isfinite(c.rMin) && c.rMin >= 0.0)) {
     fail("rMin", "must be finite and >= 0 (got " + str(c.rMin) + ")");
   }
@@ -122,6 +122,8 @@ std::vector<Particle> ParticleGun::doGenerate(
     return lo + (hi - lo) * u;
   };
 
+  // One interaction point for all particles (no draw for a point).
+  const LuminousRegion::Vertex vertex = m_region.sample(rng);
   std::vector<Particle> particles;
   particles.reserve(c.multiplicity);
   for (std::size_t i = 0; i < c.multiplicity; ++i) {
@@ -161,7 +163,8 @@ std::vector<Particle> ParticleGun::doGenerate(
                       std::cos(theta));
     p.momentum = pAbs * dir;
 
-    p.vertex = c.vertex;
+    p.vertex = vertex.position;
+    p.time = vertex.time;
     if (c.rMax > 0.0) {
       // Transverse radius R along the direction: z follows as R cot(theta).
       const double r = flat(c.rMin, c.rMax);

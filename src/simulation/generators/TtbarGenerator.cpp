@@ -115,8 +115,10 @@ class EventBuilder {
     return id;
   }
 
-  /// A jet from a quark of momentum pJet with integer charge jetCharge.
-  void fragment(const Vector3& pJet, int jetCharge, const Vector3& vertex) {
+  /// A jet from a quark of momentum pJet with integer charge jetCharge,
+  /// starting at the interaction point `vertex`.
+  void fragment(const Vector3& pJet, int jetCharge,
+                const LuminousRegion::Vertex& vertex) {
     const double pAbs = pJet.norm();
     const double lambda = m_gen.meanChargedMultiplicity(pAbs);
     const int absQ = std::abs(jetCharge);
@@ -194,14 +196,15 @@ class EventBuilder {
     for (std::size_t i = 0; i < n; ++i) {
       const Vector3 p =
           (pAbs * z[i] / zSum) * axis + kt[i].x() * e1 + kt[i].y() * e2;
-      add(codes[i], FourMomentum::fromMass(p, pdg::massOf(codes[i])), vertex,
-          0.0, 0);
+      add(codes[i], FourMomentum::fromMass(p, pdg::massOf(codes[i])),
+          vertex.position, vertex.time, 0);
     }
   }
 
   /// A b jet: B hadron with a fraction x of the quark momentum plus the
   /// fragments of the rest, which compensate the B hadron's charge.
-  void bJet(const TtbarGenerator::Parton& quark, const Vector3& vertex) {
+  void bJet(const TtbarGenerator::Parton& quark,
+            const LuminousRegion::Vertex& vertex) {
     const double x =
         m_cfg.bFragmentationMin +
         (m_cfg.bFragmentationMax - m_cfg.bFragmentationMin) * uniform();
@@ -219,7 +222,8 @@ class EventBuilder {
       code = -code;
     }
     const Vector3 pB = x * quark.p.p;
-    add(code, FourMomentum::fromMass(pB, pdg::massOf(code)), vertex, 0.0, 0);
+    add(code, FourMomentum::fromMass(pB, pdg::massOf(code)), vertex.position,
+        vertex.time, 0);
     const int qB = pdg::threeCharge(code) / 3;
     fragment(quark.p.p - pB, quark.jetCharge - qB, vertex);
   }
@@ -387,7 +391,10 @@ class EventBuilder {
 
 }  // namespace
 
-TtbarGenerator::TtbarGenerator(const Config& config) : m_cfg(config) {
+TtbarGenerator::TtbarGenerator(const Config& config)
+    : m_cfg(config),
+      m_region(requireValidRegion("TtbarGenerator", "luminousRegion",
+                                  config.luminousRegion)) {
   const Config& c = m_cfg;
   requirePositive("sqrtS", c.sqrtS);
   requirePositive("topMass", c.topMass);
@@ -443,7 +450,6 @@ TtbarGenerator::TtbarGenerator(const Config& config) : m_cfg(config) {
   requireRange("bDecayPi0Mean", c.bDecayPi0Mean, 0.0, 10.0);
   requireRange("bSemileptonicFraction", c.bSemileptonicFraction, 0.0, 1.0);
   requireRange("bDecayKaonFraction", c.bDecayKaonFraction, 0.0, 1.0);
-  requireRange("beamSpotSigmaZ", c.beamSpotSigmaZ, 0.0, 1e3);
 }
 
 std::string TtbarGenerator::name() const {
@@ -534,8 +540,8 @@ TtbarGenerator::PartonEvent TtbarGenerator::generatePartons(
 std::vector<Particle> TtbarGenerator::doGenerate(
     RandomEngine& rng, std::uint64_t /*eventNumber*/) const {
   const PartonEvent partons = generatePartons(rng);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  const Vector3 vertex(0.0, 0.0, m_cfg.beamSpotSigmaZ * gauss(rng));
+  // One interaction point for the whole event, drawn after the partons.
+  const LuminousRegion::Vertex vertex = m_region.sample(rng);
 
   std::vector<Particle> out;
   out.reserve(m_cfg.process == Process::eTtbar ? 512 : 192);
@@ -548,7 +554,7 @@ std::vector<Particle> TtbarGenerator::doGenerate(
       builder.fragment(parton.p.p, parton.jetCharge, vertex);
     } else {
       // Leptons and neutrinos (tau decays inside add()).
-      builder.add(parton.pdg, parton.p, vertex, 0.0, 0);
+      builder.add(parton.pdg, parton.p, vertex.position, vertex.time, 0);
     }
   }
   return out;

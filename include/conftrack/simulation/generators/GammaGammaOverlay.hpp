@@ -5,6 +5,7 @@
 /// assumption to be tuned, not a published model).
 
 #include "conftrack/core/Units.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/generators/EventGenerator.hpp"
 
 #include <cstddef>
@@ -17,12 +18,13 @@ namespace conftrack {
 ///
 /// For each bunch crossing i = 1 .. numBunchCrossings, with offset
 /// k = i - physicsBunchCrossing (-9 .. +20 for the defaults, detectors.md
-/// 1.8): N_ev ~ Poisson(eventsPerBunchCrossing) events; each has a vertex
-/// (0, 0, z), z Gaussian with sigma beamSpotSigmaZ, and N_ch ~
+/// 1.8): N_ev ~ Poisson(eventsPerBunchCrossing) events; each has its own
+/// interaction point drawn from the luminous region, and N_ch ~
 /// Poisson(meanCharged) charged particles (pi+-, optionally K+- and p/pbar)
 /// with pT exponential (slope ptMean) truncated to [ptMin, ptMax], eta flat
 /// in [-etaMax, etaMax], phi flat, charges +1/-1 in pairs (odd one random).
-/// Every particle has time k * bunchSpacing and origin eBackground.
+/// Every particle has time k * bunchSpacing (plus the interaction point's
+/// time offset, 0 at CLIC) and origin eBackground.
 ///
 /// Tuning estimate of meanCharged (target: about 460 reconstructable
 /// background particles per 30 BX, i.e. 550 with the ttbar's 90): with
@@ -64,8 +66,9 @@ class GammaGammaOverlay final : public EventGenerator {
     double kaonFraction = 0.0;
     /// Fraction of charged particles that are p/pbar.
     double protonFraction = 0.0;
-    /// Gaussian sigma of the vertex z [mm].
-    double beamSpotSigmaZ = 0.044 * units::mm;
+    /// Where the interactions take place (default: preset clic3tev, a
+    /// Gaussian in z with sigma 0.044 mm).
+    LuminousRegion::Config luminousRegion = LuminousRegion::clic3TeV();
   };
 
   /// Validates the configuration; throws InputError naming the bad field.
@@ -87,6 +90,7 @@ class GammaGammaOverlay final : public EventGenerator {
                                    std::uint64_t eventNumber) const override;
 
   Config m_cfg;
+  LuminousRegion m_region;
 };
 
 }  // namespace conftrack

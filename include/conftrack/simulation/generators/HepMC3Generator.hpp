@@ -4,12 +4,14 @@
 /// Events replayed from a HepMC text file (Asciiv3 or IO_GenEvent, plain or
 /// gzip-compressed), read with the HepMC3 library.
 
+#include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/generators/EventGenerator.hpp"
 #include "conftrack/simulation/generators/HepMCText.hpp"
 
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,13 +22,13 @@ namespace conftrack {
 ///
 /// All events are read at construction (the files are small), so that
 /// generate() is a pure lookup: event number n gives file event
-/// n % numEvents(), independent of thread scheduling; the random engine is
-/// not used. Reading: the file is loaded into memory (gzip detected by its
-/// magic bytes and inflated with zlib), the format is taken from its
-/// START_EVENT_LISTING line, the text is validated by hepmc::validate()
-/// (which rejects everything known to crash the HepMC3 3.1.2 readers), and
-/// then parsed by HepMC3::ReaderAscii or ReaderAsciiHepMC2 from an
-/// std::istringstream. read_event() is called exactly once per event found
+/// n % numEvents(), independent of thread scheduling. The random engine is
+/// used only with a luminous region (below). Reading: the file is loaded into
+/// memory (gzip detected by its magic bytes and inflated with zlib), the format
+/// is taken from its START_EVENT_LISTING line, the text is validated by
+/// hepmc::validate() (which rejects everything known to crash the HepMC3 3.1.2
+/// readers), and then parsed by HepMC3::ReaderAscii or ReaderAsciiHepMC2 from
+/// an std::istringstream. read_event() is called exactly once per event found
 /// by the validator and each event's particle count is checked, so the last
 /// event of a file without END_EVENT_LISTING is kept (the reader returns it
 /// complete even though it then reports end of input): sk_example_HS gives
@@ -37,6 +39,12 @@ namespace conftrack {
 /// HepMC3 defines it) converted from the file's units (GeV/MeV, mm/cm) to
 /// GeV and mm, time = c t / c in ns, charge from the PDG code
 /// (pdg::charge), ids 1..n in file order, parentId 0, origin eSignal.
+///
+/// Luminous region: unset (the default), the file's vertices are kept. Set,
+/// every event is moved by one interaction point drawn from the region
+/// (added to all its particles' positions and times, as the vertex
+/// smearing of ddsim), after the maxProductionRadius cut on the file's
+/// positions. A file event holding several interactions moves as a whole.
 class HepMC3Generator final : public EventGenerator {
  public:
   /// Configuration.
@@ -47,6 +55,8 @@ class HepMC3Generator final : public EventGenerator {
     /// (e.g. decay products of long-lived particles beyond the tracker);
     /// infinite by default (keep all).
     double maxProductionRadius = std::numeric_limits<double>::infinity();
+    /// If set, events are moved by a vertex drawn from this region.
+    std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
   };
 
   /// Reads and validates the whole file; throws InputError with a one-line
@@ -72,6 +82,7 @@ class HepMC3Generator final : public EventGenerator {
                                    std::uint64_t eventNumber) const override;
 
   Config m_cfg;
+  std::optional<LuminousRegion> m_region;
   hepmc::Format m_format = hepmc::Format::eUnknown;
   std::vector<std::vector<Particle>> m_events;
 };

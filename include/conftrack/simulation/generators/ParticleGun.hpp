@@ -6,6 +6,7 @@
 
 #include "conftrack/core/Types.hpp"
 #include "conftrack/core/Units.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/generators/EventGenerator.hpp"
 
 #include <cstddef>
@@ -19,12 +20,15 @@ namespace conftrack {
 /// A particle gun: `multiplicity` independent particles per event.
 ///
 /// Kinematics per particle: |p| (or pT) flat (or flat in log) in a range,
-/// polar angle flat in theta, cos(theta) or eta, phi flat. Production
-/// vertex fixed, or displaced along the particle's direction: for a
-/// production radius R drawn flat in [rMin, rMax] the vertex is
-/// vertex + R * (cos phi, sin phi, cot theta), so the particle starts on the
-/// straight line from `vertex` along its own direction and points away from
-/// it (as the CLICdp displaced-muon samples). Time 0.
+/// polar angle flat in theta, cos(theta) or eta, phi flat. One interaction
+/// point per event, drawn from the luminous region (by default a point at
+/// the origin) before the particles; every particle starts there, or
+/// displaced along its direction: for a production radius R drawn flat in
+/// [rMin, rMax] the vertex is point + R * (cos phi, sin phi, cot theta), so
+/// the particle starts on the straight line from the interaction point
+/// along its own direction and points away from it (as the CLICdp
+/// displaced-muon samples). Time: that of the interaction point (0 by
+/// default).
 class ParticleGun final : public EventGenerator {
  public:
   /// How the polar angle is drawn.
@@ -35,7 +39,8 @@ class ParticleGun final : public EventGenerator {
   };
 
   /// Configuration; defaults give the "muons" sample: one 10 GeV mu- per
-  /// event, isotropic in 10 deg < theta < 170 deg, from the origin.
+  /// event, isotropic in 10 deg < theta < 170 deg, from the origin
+  /// (luminous region "point").
   struct Config {
     /// PDG code: +-11, +-13, +-211, +-321, +-2212 (e, mu, pi, K, p).
     std::int32_t pdg = 13;
@@ -66,8 +71,9 @@ class ParticleGun final : public EventGenerator {
     double phiMin = -std::numbers::pi;
     /// Upper bound of the azimuth range [rad].
     double phiMax = std::numbers::pi;
-    /// Production vertex [mm] (the origin of the displacement).
-    Vector3 vertex = Vector3::Zero();
+    /// Where the interaction takes place (the origin of the
+    /// displacement); default: a point at the origin.
+    LuminousRegion::Config luminousRegion = LuminousRegion::point();
     /// Production-radius range [mm] of the displacement along the
     /// direction; rMax = 0 means no displacement (vertex fixed).
     double rMin = 0.0;
@@ -89,6 +95,7 @@ class ParticleGun final : public EventGenerator {
                                    std::uint64_t eventNumber) const override;
 
   Config m_cfg;
+  LuminousRegion m_region;
 };
 
 /// Parses a particle name ("mu-", "mu+", "e-", "e+", "pi-", "pi+", "K-",

@@ -6,6 +6,7 @@
 /// generator.
 
 #include "conftrack/core/Units.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/generators/EventGenerator.hpp"
 #include "conftrack/simulation/generators/Kinematics.hpp"
 
@@ -58,8 +59,8 @@ namespace conftrack {
 /// pi 2pi0 nu, 3pi nu. Decayed particles are kept with status 2, their
 /// daughters have parentId, the decay vertex and the flight time.
 /// Partons (t, W, quarks) are not stored; leptons and neutrinos from W
-/// decays are. All primaries share one vertex (0, 0, z), z Gaussian with
-/// beamSpotSigmaZ, at time 0.
+/// decays are. All primaries share one interaction point (position and
+/// time) drawn from the luminous region after the partons.
 ///
 /// Multiplicity tuning (defaults): n(E) = 1.30 ln(E/GeV) + 0.30 ln^2(E/GeV),
 /// i.e. 9.3 charged primaries for a 45.6 GeV jet (LEP Z: about 10 per jet),
@@ -140,8 +141,9 @@ class TtbarGenerator final : public EventGenerator {
     double bSemileptonicFraction = 0.21;
     /// Fraction of charged hadrons from B decays that are kaons.
     double bDecayKaonFraction = 0.25;
-    /// Gaussian sigma of the primary vertex z [mm] (luminous region).
-    double beamSpotSigmaZ = 0.044 * units::mm;
+    /// Where the interaction takes place (default: preset clic3tev, a
+    /// Gaussian in z with sigma 0.044 mm).
+    LuminousRegion::Config luminousRegion = LuminousRegion::clic3TeV();
 
     /// The 3 TeV ttbar sample ("ttbar3tev"): the defaults.
     static Config ttbar3TeV() { return Config{}; }
@@ -204,6 +206,7 @@ class TtbarGenerator final : public EventGenerator {
                                    std::uint64_t eventNumber) const override;
 
   Config m_cfg;
+  LuminousRegion m_region;
 };
 
 }  // namespace conftrack
