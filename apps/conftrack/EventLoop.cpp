@@ -3,6 +3,7 @@
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/LayoutFile.hpp"
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <optional>
 #include <thread>
 
@@ -41,6 +43,24 @@ void addSampleOptions(CLI::App& cmd, SampleOptions& o) {
                "Switch off energy loss in the simulation");
   cmd.add_flag("--no-time-window", o.noTimeWindow,
                "Keep hits outside the 10 ns readout window");
+  cmd.add_flag("--module-level", o.moduleLevel,
+               "Simulate the flat sensors of data/layouts/<detector>_layout"
+               ".json.gz (CLICdet, CLD): overlapping sensors give two hits");
+}
+
+std::shared_ptr<const ModuleLayout> loadModuleLayout(const SampleOptions& o,
+                                                     const Detector& detector) {
+  if (!o.moduleLevel) {
+    return nullptr;
+  }
+  const std::filesystem::path file = shippedLayoutFile(detector);
+  if (!std::filesystem::exists(file)) {
+    throw InputError("--module-level: detector " + detector.name() +
+                     " has no layout file " + file.string() +
+                     " (CLICdet and CLD have one)");
+  }
+  return std::make_shared<const ModuleLayout>(
+      readLayoutModules(file, detector));
 }
 
 EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {

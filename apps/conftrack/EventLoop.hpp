@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,11 +28,17 @@ struct SampleOptions {
   bool noMultipleScattering = false;
   bool noEnergyLoss = false;
   bool noTimeWindow = false;
+  bool moduleLevel = false;  ///< --module-level
 };
 
 /// Adds --sample, --overlay-bx, --seed, --config, --gen, --no-ms,
-/// --no-eloss, --no-time-window.
+/// --no-eloss, --no-time-window, --module-level.
 void addSampleOptions(CLI::App& cmd, SampleOptions& options);
+/// With --module-level, the sensors of `detector` from its shipped layout
+/// file (io/LayoutFile.hpp), for EventSimulation::Config::modules; else
+/// null. InputError if the detector has no layout file.
+std::shared_ptr<const ModuleLayout> loadModuleLayout(
+    const SampleOptions& options, const Detector& detector);
 /// Turns the options into an EventSimulation configuration (reads the
 /// --config file). Throws InputError for bad values.
 EventSimulation::Config makeSimulationConfig(const SampleOptions& options);

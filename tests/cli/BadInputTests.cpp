@@ -169,7 +169,7 @@ const std::vector<BadInput>& cases() {
        kRecoIn,
        R"(^\S+-hits\.csv:2: hit_id 1 at r = 1\.41421e\+308 mm, z = 1e\+308 mm lies outside the tracker of detector 'CLICdet' \(r <= 1500 mm, \|z\| <= 2306 mm\)$)"},
       {"HitAwayFromItsLayer", hitsRow("1,800,0,10,1,2,0"), kRecoIn,
-       R"(^\S+-hits\.csv:2: hit_id 1 at r = 800 mm, z = 10 mm is not on the layer its volume_id/layer_id name \(VXD_B_L0: r = 31\.165 mm, \|z\| <= 130 mm, tolerance 20 mm\)$)"},
+       R"(^\S+-hits\.csv:2: hit_id 1 at r = 800 mm, z = 10 mm is not on the layer its volume_id/layer_id name \(VXD_B_L0: r = 31\.165 mm, \|z\| <= 130 mm, tolerance 25 mm\)$)"},
       {"HitOnTheBeamLine", hitsRow("1,0,0,10,1,2,0"), kRecoIn,
        R"(^\S+-hits\.csv:2: hit_id 1 lies on the beam line \(sqrt\(x\^2 \+ y\^2\) < 1 um\): no tracking layer is there and conformal coordinates are undefined$)"},
       {"DuplicateHitId",
