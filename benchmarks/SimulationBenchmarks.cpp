@@ -7,6 +7,7 @@
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
+#include "conftrack/io/LayoutFile.hpp"
 #include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
@@ -101,6 +102,40 @@ void simulateTtbar30Bx(benchmark::State& state) {
   state.counters["hits"] = static_cast<double>(hits);
 }
 BENCHMARK(simulateTtbar30Bx)->Unit(benchmark::kMillisecond);
+
+/// The same on CLICdet (first argument 0) or CLD (1), with the ideal layers
+/// (second argument 0) or the sensors of the detector's layout file (1,
+/// --module-level; docs/validation.md, "CLICdet and CLD sensors"). Always
+/// events 1-20 (the time varies by a factor of 3 between events), so that
+/// the four variants time the same events.
+void simulateTtbar30BxSensors(benchmark::State& state) {
+  static const conftrack::Detector clicdet = conftrack::loadDetector("clicdet");
+  static const conftrack::Detector cld = conftrack::loadDetector("cld");
+  const conftrack::Detector& det = state.range(0) == 0 ? clicdet : cld;
+  conftrack::EventSimulation::Config cfg;
+  cfg.sample = "ttbar3tev";
+  cfg.overlayBx = 30;
+  if (state.range(1) == 1) {
+    cfg.modules = std::make_shared<const conftrack::ModuleLayout>(
+        conftrack::readLayoutModules(conftrack::shippedLayoutFile(det), det));
+  }
+  conftrack::EventSimulation sim(det, cfg);
+  std::uint64_t event = 1;
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    conftrack::Event ev = sim.simulate(event++);
+    hits = ev.hits.size();
+    benchmark::DoNotOptimize(ev);
+  }
+  state.counters["hits"] = static_cast<double>(hits);
+}
+BENCHMARK(simulateTtbar30BxSensors)
+    ->Iterations(20)
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

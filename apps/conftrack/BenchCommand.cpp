@@ -49,10 +49,14 @@ void runBench(const BenchOptions& opt) {
               opt.events);
   std::printf("%6s %9s %8s %12s %12s %12s %12s\n", "BX", "hits", "tracks",
               "sim [ms]", "find [ms]", "fit [ms]", "total [ms]");
+  const std::shared_ptr<const ModuleLayout> modules =
+      loadModuleLayout(opt.sample, detector);
   for (std::size_t bx : opt.overlays) {
     SampleOptions so = opt.sample;
     so.overlayBx = bx;
-    EventSimulation sim(detector, makeSimulationConfig(so));
+    EventSimulation::Config config = makeSimulationConfig(so);
+    config.modules = modules;
+    EventSimulation sim(detector, config);
     std::vector<double> simMs, findMs, fitMs, totalMs;
     double hits = 0.0;
     double tracks = 0.0;

@@ -4,6 +4,7 @@
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/LayoutFile.hpp"
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <optional>
 #include <thread>
 
@@ -75,6 +77,24 @@ void addSampleOptions(CLI::App& cmd, SampleOptions& o) {
                            "default: clic3tev for ttbar3tev, bb500 and the "
                            "overlay, a point for muons, the file's vertices "
                            "for hepmc");
+  cmd.add_flag("--module-level", o.moduleLevel,
+               "Simulate the flat sensors of data/layouts/<detector>_layout"
+               ".json.gz (CLICdet, CLD): overlapping sensors give two hits");
+}
+
+std::shared_ptr<const ModuleLayout> loadModuleLayout(const SampleOptions& o,
+                                                     const Detector& detector) {
+  if (!o.moduleLevel) {
+    return nullptr;
+  }
+  const std::filesystem::path file = shippedLayoutFile(detector);
+  if (!std::filesystem::exists(file)) {
+    throw InputError("--module-level: detector " + detector.name() +
+                     " has no layout file " + file.string() +
+                     " (CLICdet and CLD have one)");
+  }
+  return std::make_shared<const ModuleLayout>(
+      readLayoutModules(file, detector));
 }
 
 EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,11 +48,18 @@ struct SampleOptions {
   bool noEnergyLoss = false;
   bool noTimeWindow = false;
   LuminousRegionOptions luminousRegion;
+  bool moduleLevel = false;  ///< --module-level
 };
 
 /// Adds --sample, --overlay-bx, --seed, --config, --gen, --no-ms,
-/// --no-eloss, --no-time-window, --luminous-region, --beam-sigma-z.
+/// --no-eloss, --no-time-window, --luminous-region, --beam-sigma-z,
+/// --module-level.
 void addSampleOptions(CLI::App& cmd, SampleOptions& options);
+/// With --module-level, the sensors of `detector` from its shipped layout
+/// file (io/LayoutFile.hpp), for EventSimulation::Config::modules; else
+/// null. InputError if the detector has no layout file.
+std::shared_ptr<const ModuleLayout> loadModuleLayout(
+    const SampleOptions& options, const Detector& detector);
 /// Turns the options into an EventSimulation configuration (reads the
 /// --config file). Throws InputError for bad values.
 EventSimulation::Config makeSimulationConfig(const SampleOptions& options);

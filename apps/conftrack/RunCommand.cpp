@@ -137,6 +137,7 @@ std::vector<ReportSpec> reportsOf(const RunOptions& opt) {
 }
 
 void runReport(const RunOptions& opt, const Detector& detector,
+               const std::shared_ptr<const ModuleLayout>& modules,
                const Reconstruction& reco, const ReportSpec& spec) {
   using Clock = std::chrono::steady_clock;
   std::filesystem::path dir = std::filesystem::path(opt.output) / spec.folder;
@@ -149,7 +150,9 @@ void runReport(const RunOptions& opt, const Detector& detector,
   Event firstEvent;
   std::vector<Track> firstTracks;
   for (const SubSample& sub : spec.samples) {
-    EventSimulation sim(detector, sub.sim);
+    EventSimulation::Config config = sub.sim;
+    config.modules = modules;
+    EventSimulation sim(detector, config);
     overlayBx = sim.config().overlayBx;
     description = sim.description();
     CONFTRACK_INFO("run: " << sub.events << " events of " << description
@@ -199,6 +202,8 @@ void runRun(const RunOptions& opt) {
   Detector detector = loadDetector(opt.reco.detector);
   Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
   const std::vector<ReportSpec> reports = reportsOf(opt);
+  const std::shared_ptr<const ModuleLayout> modules =
+      loadModuleLayout(opt.sample, detector);
   for (const ReportSpec& spec : reports) {
     // Not opt.output / "": the trailing "/" hides that a file has the name.
     prepareOutputFolder(spec.folder.empty()
@@ -207,7 +212,7 @@ void runRun(const RunOptions& opt) {
                         "-o");
   }
   for (const ReportSpec& spec : reports) {
-    runReport(opt, detector, reco, spec);
+    runReport(opt, detector, modules, reco, spec);
   }
 }
 

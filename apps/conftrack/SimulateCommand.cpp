@@ -63,7 +63,9 @@ void runSimulate(const SimulateOptions& opt) {
                      std::to_string(std::numeric_limits<std::uint64_t>::max()));
   }
   Detector detector = loadDetector(opt.detector);
-  EventSimulation sim(detector, makeSimulationConfig(opt.sample));
+  EventSimulation::Config config = makeSimulationConfig(opt.sample);
+  config.modules = loadModuleLayout(opt.sample, detector);
+  EventSimulation sim(detector, config);
   prepareOutputFolder(opt.output, "-o");
   std::vector<EventCounts> counts(opt.events);
   CONFTRACK_INFO("simulating " << opt.events << " events of "

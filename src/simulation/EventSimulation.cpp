@@ -12,7 +12,7 @@ namespace conftrack {
 EventSimulation::EventSimulation(const Detector& detector, Config config)
     : m_detector(&detector),
       m_config(std::move(config)),
-      m_simulator(detector, m_config.simulator) {
+      m_simulator(detector, m_config.simulator, m_config.modules) {
   std::shared_ptr<toml::table> table =
       ConfigTable::parse(m_config.generatorToml, m_config.generatorTomlSource);
   ConfigTable root(*table, m_config.generatorTomlSource, "");
@@ -70,6 +70,9 @@ std::string EventSimulation::description() const {
   std::string d = m_config.sample;
   if (m_overlay) {
     d += " + " + std::to_string(m_config.overlayBx) + " BX gg->hadrons";
+  }
+  if (m_config.modules) {
+    d += ", module level";
   }
   return d;
 }

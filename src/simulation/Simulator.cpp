@@ -255,8 +255,15 @@ double Simulator::crossModules(
   const ModuleLayout& layout = *m_modules;
   const SensitiveLayer& layer = m_layers[layerIndex];
   scratch.crossings.clear();
-  findModuleCrossings(helix, s, kMinStep, layerIndex, layout,
-                      scratch.candidates, scratch.crossings);
+  // A layer whose sensors reach past the neighbouring layers' surfaces
+  // (CLICdet's spiral petals) can have sensors behind the previous
+  // crossing, where this helix starts: look backwards too.
+  const double sMin =
+      layout.shellHalfThickness(layerIndex) > kBackwardSearchShell
+          ? -std::numeric_limits<double>::infinity()
+          : kMinStep;
+  findModuleCrossings(helix, s, sMin, layerIndex, layout, scratch.candidates,
+                      scratch.crossings);
   // The support, with the geometry of the layer surface.
   double xOverX0 =
       surface.thicknessX0 > 0.0

@@ -108,6 +108,38 @@ TEST(Cli, RunSummaryIsIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(withoutTimes(ja), withoutTimes(jb));
 }
 
+TEST(Cli, ModuleLevelSimulationIsDeterministicAndReadBack) {
+  // --module-level on CLICdet (spiral vertex petals up to 20.7 mm from
+  // their layer's mean z) and CLD: the same files for one and two
+  // threads, different from the ideal layers, and read back by
+  // reconstruct (hits within 25 mm of their layer).
+  for (const std::string detector : {"clicdet", "cld"}) {
+    fs::path a = tempDir(detector + "_ml1");
+    fs::path b = tempDir(detector + "_ml2");
+    fs::path ideal = tempDir(detector + "_ideal");
+    const std::string common = "-q simulate --detector " + detector +
+                               " --sample ttbar3tev --overlay-bx 3 -n 2 "
+                               "--seed 5 -o ";
+    ASSERT_EQ(conftrack(common + a.string() + " -j 1 --module-level").code, 0);
+    ASSERT_EQ(conftrack(common + b.string() + " -j 2 --module-level").code, 0);
+    ASSERT_EQ(conftrack(common + ideal.string()).code, 0);
+    const std::string hits = "event000000001-hits.csv";
+    EXPECT_EQ(slurp(a / hits), slurp(b / hits)) << detector;
+    EXPECT_NE(slurp(a / hits), slurp(ideal / hits)) << detector;
+    const Result r =
+        conftrack("-q reconstruct -i " + a.string() + " --detector " +
+                  detector + " -o " + tempDir(detector + "_tracks").string());
+    EXPECT_EQ(r.code, 0) << r.err;
+  }
+  const Result r = conftrack(
+      "simulate --detector trackml -n 1 --module-level "
+      "-o " +
+      tempDir("trackml_ml").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("trackml_layout.json.gz"), std::string::npos) << r.err;
+}
+
 TEST(Cli, BadInputIsOneLineAndExitCodeOne) {
   Result r = conftrack("detector show no-such-detector");
   EXPECT_EQ(r.code, 1);

@@ -11,7 +11,6 @@
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
 
 #include <gtest/gtest.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,22 +22,14 @@
 #include <string>
 #include <vector>
 
+#include "Gunzip.hpp"
+
 namespace conftrack {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::string gunzip(const std::filesystem::path& file) {
-  gzFile in = gzopen(file.string().c_str(), "rb");
-  std::string text;
-  char buffer[1 << 16];
-  int n = 0;
-  while ((n = gzread(in, buffer, sizeof buffer)) > 0) {
-    text.append(buffer, static_cast<std::size_t>(n));
-  }
-  gzclose(in);
-  return text;
-}
+using test::gunzip;
 
 struct TrackmlGeometry {
   std::vector<TrackmlModule> modules;

@@ -269,7 +269,7 @@ TEST_F(TrackmlErrors, HitAwayFromItsLayer) {
       hitsError(kHitsHeader + "1,500,0,10,1,2,0\n", 2, &clicdet()),
       HasSubstr("hit_id 1 at r = 500 mm, z = 10 mm is not on the layer its "
                 "volume_id/layer_id name (VXD_B_L0: r = 31.165 mm"));
-  // Beyond the end of the barrel layer (|z| <= 130 mm) by more than 20 mm.
+  // Beyond the end of the barrel layer (|z| <= 130 mm) by more than 25 mm.
   EXPECT_THAT(hitsError(kHitsHeader + "1,31.165,0,200,1,2,0\n", 2, &clicdet()),
               HasSubstr("is not on the layer"));
 }

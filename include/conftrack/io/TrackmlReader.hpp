@@ -42,9 +42,9 @@ struct ReadOptions {
 /// unknown layers, duplicate hit ids, and hits within 1 um of the beam line
 /// (no layer is there; conformal coordinates are undefined). With a
 /// detector also hits outside its envelope (r <= envelopeR, |z| <=
-/// envelopeZ) and hits more than 20 mm away from the surface of the layer
+/// envelopeZ) and hits more than 25 mm away from the surface of the layer
 /// they name (real modules are staggered around the nominal layer by a few
-/// mm).
+/// mm, the CLICdet vertex-endcap spiral petals by up to 20.7 mm).
 std::vector<Hit> readHits(const std::filesystem::path& file,
                           const Detector* detector);
 

@@ -43,6 +43,11 @@ class EventSimulation {
     /// Run seed; every event's streams derive from (seed, event number).
     std::uint64_t seed = 1;
     Simulator::Config simulator;
+    /// Module-level simulation: the flat sensors of the detector (e.g.
+    /// io/LayoutFile.hpp for CLICdet and CLD), crossed sensor by sensor so
+    /// that overlapping sensors give two hits (Simulator.hpp). Null (the
+    /// default): the ideal cylinders and disks of the detector file.
+    std::shared_ptr<const ModuleLayout> modules;
     /// Readout window of the hit time (detectors.md 1.8: 10 ns from
     /// -0.25 ns for all CLICdet tracker collections); hits outside are
     /// dropped. Matters for the overlay's early and late bunch crossings.

@@ -105,6 +105,16 @@ class Simulator {
   /// The smallest transverse step between two crossings [mm]: a surface
   /// just crossed is not found again within this distance.
   static constexpr double kMinStep = 1e-4 * units::mm;
+  /// Layers with sensors farther than this from their surface
+  /// (ModuleLayout::shellHalfThickness; CLICdet's spiral vertex-endcap
+  /// petals, 21 mm) look for sensor crossings also before the previous
+  /// surface crossing, along the same helix extrapolated backwards: their
+  /// sensors can lie behind the neighbouring layer (the petals of VXD_E_L1
+  /// at z = 161-202 mm behind the disk of VXD_E_L0 at 179.7 mm). Such a
+  /// hit ignores the scattering at the surfaces in between and comes after
+  /// later hits in the hit list. All other layers (the TrackML sensors:
+  /// at most 6.1 mm) look forward only.
+  static constexpr double kBackwardSearchShell = 10.0 * units::mm;
 
   /// Simulator with the default Config. Copies what it needs from
   /// `detector` (no reference is kept).
