@@ -184,20 +184,11 @@ class ModuleCsv {
 
 }  // namespace
 
-double TrackmlModule::halfUAt(double v) const {
-  double f = std::clamp((v + halfV) / (2.0 * halfV), 0.0, 1.0);
-  return minHalfU + f * (maxHalfU - minHalfU);
-}
-
 std::array<Vector3, 4> TrackmlModule::corners() const {
   const Vector3 u = rotation.col(0);
   const Vector3 v = rotation.col(1);
   return {center - minHalfU * u - halfV * v, center + minHalfU * u - halfV * v,
           center + maxHalfU * u + halfV * v, center - maxHalfU * u + halfV * v};
-}
-
-Vector3 TrackmlModule::toLocal(const Vector3& global) const {
-  return rotation.transpose() * (global - center);
 }
 
 std::vector<TrackmlModule> parseTrackmlModules(std::string_view csvText,

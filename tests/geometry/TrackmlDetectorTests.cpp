@@ -107,15 +107,15 @@ TEST(TrackmlDetector, ParsesModules) {
   EXPECT_EQ(m.module, 1u);
   EXPECT_NEAR(m.center.head<2>().norm(), 50.0 * mm, 1e-9);
   EXPECT_NEAR(m.halfV, 32.0 * mm, 1e-12);
-  // The local frame maps the centre to 0 and the corners to (+-hu, +-hv).
-  EXPECT_NEAR(m.toLocal(m.center).norm(), 0.0, 1e-12);
-  Vector3 corner = m.toLocal(m.corners()[2]);
+  // The corners lie at (+-hu, +-hv) of the local frame (rotation columns).
+  const Vector3 corner = m.rotation.transpose() * (m.corners()[2] - m.center);
   EXPECT_NEAR(corner.x(), 21.0, 1e-9);
   EXPECT_NEAR(corner.y(), 32.0, 1e-9);
+  EXPECT_NEAR(corner.z(), 0.0, 1e-9);
   // Trapezoid: narrow at v = -hv.
   const TrackmlModule& disk = modules.back();
-  EXPECT_NEAR(disk.halfUAt(-disk.halfV), 20.0, 1e-12);
-  EXPECT_NEAR(disk.halfUAt(disk.halfV), 30.0, 1e-12);
+  EXPECT_NEAR(disk.minHalfU, 20.0, 1e-12);
+  EXPECT_NEAR(disk.maxHalfU, 30.0, 1e-12);
 }
 
 TEST(TrackmlDetector, Summaries) {

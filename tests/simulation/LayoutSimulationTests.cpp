@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "Gunzip.hpp"
+#include "IdealSimulatorConfig.hpp"
 
 namespace conftrack {
 namespace {
@@ -49,14 +50,6 @@ const Sensors& setup(const std::string& name) {
   return it->second;
 }
 
-Simulator::Config exact() {
-  Simulator::Config c;
-  c.multipleScattering = false;
-  c.energyLoss = false;
-  c.smearHits = false;
-  return c;
-}
-
 TEST(LayoutSimulation, EveryCrossedLayerHasAHit) {
   // 100 GeV muons from the origin, |eta| < 2.8, no scattering: on every
   // layer whose surface the straight line crosses away from its edges
@@ -65,7 +58,8 @@ TEST(LayoutSimulation, EveryCrossedLayerHasAHit) {
   // of the vertex double layers (LayoutModulesTests): below 5 % there.
   for (const std::string name : {"clicdet", "cld"}) {
     const Sensors& s = setup(name);
-    const Simulator simulator(s.detector, exact(), s.layout);
+    const Simulator simulator(s.detector, test::idealSimulatorConfig(),
+                              s.layout);
     RandomEngine rng(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     std::vector<Particle> particles;

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "IdealSimulatorConfig.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -82,18 +84,12 @@ Particle particle(std::uint64_t id, double pt, double phi, double eta,
   return p;
 }
 
-Simulator::Config exact() {
-  Simulator::Config c;
-  c.multipleScattering = false;
-  c.energyLoss = false;
-  c.smearHits = false;
-  return c;
-}
-
 TEST(ModuleSimulation, OverlapGivesTwoHitsAndGapNone) {
   const Detector detector = barrels({100.0}, 200.0, 0.01);
-  const Simulator overlapping(detector, exact(), ring(detector, 16, 1.1));
-  const Simulator gapped(detector, exact(), ring(detector, 16, 0.9));
+  const Simulator overlapping(detector, test::idealSimulatorConfig(),
+                              ring(detector, 16, 1.1));
+  const Simulator gapped(detector, test::idealSimulatorConfig(),
+                         ring(detector, 16, 0.9));
   // phi = 0: the centre of sensor 1; phi = pi/16: the border of sensors 1
   // and 2 (the overlap, or the gap).
   const std::vector<Particle> particles = {particle(1, 100.0, 0.0, 0.3),
@@ -127,7 +123,7 @@ TEST(ModuleSimulation, OverlapGivesTwoHitsAndGapNone) {
 
 TEST(ModuleSimulation, SmearedInTheSensorFrameAndKeptInside) {
   const Detector detector = barrels({100.0}, 200.0, 0.01);
-  Simulator::Config config = exact();
+  Simulator::Config config = test::idealSimulatorConfig();
   config.smearHits = true;
   const Simulator simulator(detector, config, ring(detector, 16, 1.1));
   std::vector<Particle> particles;
@@ -163,7 +159,7 @@ TEST(ModuleSimulation, SmearedInTheSensorFrameAndKeptInside) {
 
 TEST(ModuleSimulation, TrackmlLoopersStopAfterHalfATurn) {
   const Detector detector = barrels({100.0, 200.0, 300.0, 400.0}, 2000.0, 0.0);
-  Simulator::Config config = exact();
+  Simulator::Config config = test::idealSimulatorConfig();
   const Simulator follow(detector, config);
   config.maxTurns = 0.5;  // as trackmlSimulatorConfig (ACTS loop protection)
   const Simulator half(detector, config);
@@ -199,7 +195,7 @@ TEST(ModuleSimulation, HadronicInteractionsEndHadronsOnly) {
   // Two layers of 0.5 X0: a pion ends in the first with probability
   // 1 - exp(-0.5 / (lambda_I / X0)) = 0.0958 (silicon); muons never do.
   const Detector detector = barrels({100.0, 200.0}, 2000.0, 0.5);
-  Simulator::Config config = exact();
+  Simulator::Config config = test::idealSimulatorConfig();
   config.hadronicInteractions = true;
   const Simulator simulator(detector, config);
   std::vector<Particle> particles;
@@ -232,7 +228,7 @@ TEST(ModuleSimulation, NoHitAtGrazingIncidenceBelowTheCut) {
   // eta = 3.7 through a barrel sensor at r = 100 mm: cos(alpha) = 0.049.
   const Detector detector = barrels({100.0}, 3000.0, 0.01);
   std::shared_ptr<const ModuleLayout> sensors = ring(detector, 16, 1.1);
-  Simulator::Config config = exact();
+  Simulator::Config config = test::idealSimulatorConfig();
   const std::vector<Particle> particles = {particle(1, 5.0, 0.0, 3.7),
                                            particle(2, 5.0, 0.0, 2.0)};
   Event all;

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "IdealSimulatorConfig.hpp"
+
 namespace conftrack {
 namespace {
 
@@ -365,15 +367,6 @@ TEST(PropagationNavigator, SoftForwardTrackCrossesBeamPipeCone) {
             names.end());
 }
 
-/// A simulator without material effects and without smearing.
-Simulator::Config idealConfig() {
-  Simulator::Config config;
-  config.multipleScattering = false;
-  config.energyLoss = false;
-  config.smearHits = false;
-  return config;
-}
-
 Particle makeParticle(std::uint64_t id, std::int32_t pdg, double charge,
                       const Vector3& vertex, const Vector3& momentum) {
   Particle particle;
@@ -387,7 +380,7 @@ Particle makeParticle(std::uint64_t id, std::int32_t pdg, double charge,
 
 TEST(PropagationSimulator, HitsOnAnalyticHelixWithoutMaterial) {
   const Detector detector = loadDetector("clicdet");
-  const Simulator simulator(detector, idealConfig());
+  const Simulator simulator(detector, test::idealSimulatorConfig());
   struct Case {
     double charge;
     double pt;
@@ -463,7 +456,7 @@ TEST(PropagationSimulator, HitsOnAnalyticHelixWithoutMaterial) {
 TEST(PropagationSimulator, LooperStopsAfterMaxTurns) {
   const Detector detector = loadDetector("clicdet");
   for (double turns : {1.0, 2.0, 4.0}) {
-    Simulator::Config config = idealConfig();
+    Simulator::Config config = test::idealSimulatorConfig();
     config.maxTurns = turns;
     const Simulator simulator(detector, config);
     Event event;
@@ -479,7 +472,7 @@ TEST(PropagationSimulator, LooperStopsAfterMaxTurns) {
 
 TEST(PropagationSimulator, StartsAtDisplacedVertexAndSkipsOutside) {
   const Detector detector = loadDetector("clicdet");
-  const Simulator simulator(detector, idealConfig());
+  const Simulator simulator(detector, test::idealSimulatorConfig());
   Event event;
   RandomEngine rng(3);
   // Produced between the inner and outer tracker, moving outwards: only

@@ -71,12 +71,9 @@ struct TrackmlModule {
   double pitchU = 0.0;
   double pitchV = 0.0;
 
-  /// Half width along u at local v [mm].
-  double halfUAt(double v) const;
-  /// The four corners in global coordinates.
+  /// The four corners in global coordinates (for the layer summaries; the
+  /// simulation's sensor is the PlanarModule of buildTrackmlModuleLayout).
   std::array<Vector3, 4> corners() const;
-  /// Position in the local frame (u, v, w) of a global point.
-  Vector3 toLocal(const Vector3& global) const;
 };
 
 /// Parses a TrackML detectors.csv (columns by header name; the rotation,
