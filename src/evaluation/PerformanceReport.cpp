@@ -350,6 +350,7 @@ Json makeSummaryJson(const RunMetadata& m, const PerformanceSummary& s) {
     st["candidates"] = step.candidates;
     st["accepted"] = step.accepted;
     st["extended_hits"] = step.extendedHits;
+    st["overlap_hits"] = step.overlapHits;
     st["hits_used"] = step.hitsUsed;
     // (Kept for readers of older summaries: the bites of two guards.)
     st["path_overflows"] = step.guard(Guard::ePathsPerSeed).bites;

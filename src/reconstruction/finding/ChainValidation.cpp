@@ -194,6 +194,12 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
                Range{0.0, kMaxAngle, false, true}},
               {"extension_lookahead", static_cast<double>(c.extensionLookahead),
                one, Range::closed(0, 5)},
+              {"overlap_max_chi2", c.overlapMaxChi2, one,
+               Range{0.0, 1e6, false, true}},
+              {"overlap_max_arc_mm", c.overlapMaxArc, units::mm,
+               Range{0.0, 1000.0, false, true}},
+              {"overlap_max_gap_mm", c.overlapMaxGap, units::mm,
+               Range{0.0, 1000.0, false, true}},
           },
           key)) {
     return ChainProblem{std::nullopt, "finder." + key, *what};

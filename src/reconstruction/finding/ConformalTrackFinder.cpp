@@ -2,6 +2,7 @@
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+#include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -79,6 +80,10 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
     state.compact();
     if (step.extend) {
       detail::extendTracks(state, step, *pool, stats);
+    }
+    if (chain.overlapHits && pool &&
+        (step.build || step.helix || step.extend)) {
+      detail::addOverlapHits(state, *pool, stats);
     }
     if (step.sort) {
       std::sort(state.tracks.begin(), state.tracks.end(),

@@ -163,6 +163,13 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         f.getBool("final_hole_filling", cfg.finalHoleFilling);
     cfg.scatteringAllowance =
         f.getBool("scattering_allowance", cfg.scatteringAllowance);
+    cfg.overlapHits = f.getBool("overlap_hits", cfg.overlapHits);
+    cfg.overlapMaxChi2 =
+        quantity(f, "overlap_max_chi2", 1.0, cfg.overlapMaxChi2);
+    cfg.overlapMaxArc =
+        quantity(f, "overlap_max_arc_mm", units::mm, cfg.overlapMaxArc);
+    cfg.overlapMaxGap =
+        quantity(f, "overlap_max_gap_mm", units::mm, cfg.overlapMaxGap);
     f.rejectUnknownKeys();
   }
   std::vector<ConfigTable> steps = root.getTableArray("step");

@@ -42,6 +42,7 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   candidates += o.candidates;
   accepted += o.accepted;
   extendedHits += o.extendedHits;
+  overlapHits += o.overlapHits;
   hitsUsed += o.hitsUsed;
   recovered += o.recovered;
   cellCacheFlushes += o.cellCacheFlushes;

@@ -4,6 +4,7 @@
 /// The configurable chain of conformal-tracking steps (algorithm.md 3, 12,
 /// 13) and its TOML reader (format: README "Chain files").
 
+#include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
 
 #include <algorithm>
@@ -202,6 +203,20 @@ struct FinderConfig {
   /// track's momentum estimate) in its chi2 increments. A conftrack
   /// addition: upstream's conformal chi2 knows only the hit resolutions.
   bool scatteringAllowance = true;
+  /// After each step, tracks take the unused hits of the step's pool on
+  /// other sensors of the layers they have hits on (overlapping sensors,
+  /// detail/OverlapHits.hpp). A conftrack addition (issue 15): real layers
+  /// give a particle two hits where sensors overlap.
+  bool overlapHits = true;
+  /// Largest chi2 (2 dof) of an overlap hit relative to the track's hit on
+  /// the same layer (chain key overlap_max_chi2).
+  double overlapMaxChi2 = 20.0;
+  /// Largest transverse arc length between a track's hit and an overlap
+  /// hit of the same layer [mm] (chain key overlap_max_arc_mm).
+  double overlapMaxArc = 25.0 * units::mm;
+  /// Largest distance of two sensors of one layer along its normal
+  /// (radial on barrels, z on disks) [mm] (chain key overlap_max_gap_mm).
+  double overlapMaxGap = 12.0 * units::mm;
 };
 
 /// A problem of a chain, named by the chain-file key it comes from, so that

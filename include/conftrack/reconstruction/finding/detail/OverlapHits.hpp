@@ -1,0 +1,70 @@
+#pragma once
+
+/// @file OverlapHits.hpp
+/// Overlap hits (internal): the second (third) hit a particle leaves on one
+/// layer where neighbouring sensors overlap, added to the track that holds
+/// the first (issue 15; the algorithm is described in OverlapHits.cpp).
+
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace conftrack::detail {
+
+/// Adds overlap hits to the live tracks of a FinderState.
+class OverlapHitCollector {
+ public:
+  /// Cuts of the overlap search (FinderConfig::overlapMaxChi2 and
+  /// FinderConfig::overlapMaxArc, read from the chain's [finder] table).
+  struct Config {
+    /// Largest chi2 (2 degrees of freedom, uv and sz) of the difference
+    /// between the candidate's residuals to the track's fits and those of
+    /// the track's hit on the same layer.
+    double maxChi2 = 20.0;
+    /// Largest distance between two sensors of one layer along the layer's
+    /// normal (radial on barrels, z on disks) [mm]: TrackML's barrel
+    /// sensors lie within 3 mm in radius (plus the tilt of flat sensors on
+    /// a cylinder), its disk sensors within 11 mm in z.
+    double maxGap = 12.0;
+    /// Largest transverse arc length between the two crossings of one
+    /// layer [mm] (maxGap seen at a grazing angle is capped here).
+    double maxArc = 25.0;
+    /// Largest number of hits on one layer of a track (the corner where
+    /// four sensors overlap gives four; more is a looper's second turn).
+    std::uint32_t maxHitsPerLayer = 4;
+  };
+
+  /// Throws std::invalid_argument for a non-positive or non-finite cut.
+  OverlapHitCollector(FinderState& state, const HitPool& pool, StepStats& stats,
+                      Config config);
+
+  /// Adds to track t the compatible unused pool hits on the layers of its
+  /// hits in the pool (other sensors than the track's on that layer);
+  /// refits it. Returns the number of hits added.
+  std::uint32_t collect(std::uint32_t t);
+
+ private:
+  /// chi2 of hit h at arc length sh against the track's hit a at sa: the
+  /// difference of their residuals to the fits (scattering between two
+  /// crossings a few mm apart is negligible; the fits' local deviation,
+  /// which scattering makes far larger than the hit errors below a few
+  /// GeV, cancels).
+  double pairChi2(const TrackCandidate& track, ConfIndex a, double sa,
+                  ConfIndex h, double sh) const;
+
+  FinderState& m_state;
+  const ConformalHits& m_hits;
+  const HitPool& m_pool;
+  StepStats& m_stats;
+  Config m_config;
+  /// Scratch: pool layers as a lookup, the window, arc lengths.
+  std::vector<std::uint8_t> m_inPool;
+  std::vector<ConfIndex> m_window;
+};
+
+/// Runs the collector over every live track (in track order, so earlier
+/// tracks take contested hits first; the order is deterministic).
+void addOverlapHits(FinderState& state, const HitPool& pool, StepStats& stats);
+
+}  // namespace conftrack::detail

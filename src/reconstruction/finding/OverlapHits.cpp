@@ -1,0 +1,279 @@
+// Overlap hits (issue 15, item 1).
+//
+// Real layers are made of flat sensors that overlap in azimuth (and along
+// z or R), so a particle crossing an overlap leaves two hits on one layer,
+// a few mm apart along its path. The finder's cells and extensions take one
+// hit per layer: on the module-level TrackML simulation the hits left off
+// found tracks on layers the track already had were 8.5 % of the score
+// weight, and the leftover second hits seeded split pieces in later steps.
+//
+// After each step's building and extension, every live track looks for
+// unused hits of the step's pool on each layer where it has a hit, on
+// another sensor than its own, within a transverse arc length
+// Config::maxArc of its hit there. A candidate is judged by the difference
+// between its residuals to the track's fits (uv and sz) and those of the
+// track's own hit on that layer: the two crossings are so close that
+// scattering between them is negligible, while the deviation of the track
+// from its fits (multiple scattering, far larger than the hit errors below a
+// few GeV) is common to both and cancels. The best candidate per sensor is
+// added when that chi2 (2 degrees of freedom) is below Config::maxChi2, and
+// the track is refitted.
+
+#include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace conftrack::detail {
+
+namespace {
+
+/// Margin of the search box around the predicted second crossing [mm]
+/// (hit errors of pixels and along the strips' precise coordinate).
+constexpr double kSidewaysMargin = 2.0;
+/// The box extends this many of the track hit's own errors along the layer
+/// (z on barrels, R on disks: TrackML long strips measure them to 3 mm).
+constexpr double kAlongSigmas = 5.0;
+/// Largest half-width of the azimuth window [rad].
+constexpr double kMaxHalfPhi = 0.5;
+
+/// A compatible hit on another sensor of one of the track's layers.
+struct OverlapCandidate {
+  std::uint32_t module;
+  double chi2;
+  ConfIndex hit;
+  double s;
+};
+
+}  // namespace
+
+OverlapHitCollector::OverlapHitCollector(FinderState& state,
+                                         const HitPool& pool, StepStats& stats,
+                                         Config config)
+    : m_state(state),
+      m_hits(state.hits),
+      m_pool(pool),
+      m_stats(stats),
+      m_config(config) {
+  if (!(m_config.maxChi2 > 0.0) || !std::isfinite(m_config.maxChi2)) {
+    throw std::invalid_argument(
+        "OverlapHitCollector: maxChi2 must be positive and finite");
+  }
+  if (!(m_config.maxGap > 0.0) || !std::isfinite(m_config.maxGap)) {
+    throw std::invalid_argument(
+        "OverlapHitCollector: maxGap must be positive and finite");
+  }
+  if (!(m_config.maxArc > 0.0) || !std::isfinite(m_config.maxArc)) {
+    throw std::invalid_argument(
+        "OverlapHitCollector: maxArc must be positive and finite");
+  }
+  if (m_config.maxHitsPerLayer < 2) {
+    throw std::invalid_argument(
+        "OverlapHitCollector: maxHitsPerLayer must be at least 2");
+  }
+  m_inPool.assign(state.detector.layers().size(), 0);
+  for (std::uint32_t layer : pool.layers()) {
+    m_inPool[layer] = 1;
+  }
+}
+
+double OverlapHitCollector::pairChi2(const TrackCandidate& track, ConfIndex a,
+                                     double sa, ConfIndex h, double sh) const {
+  double va = 0.0;
+  double vh = 0.0;
+  const double eUv =
+      track.uv.residual(m_hits, h, vh) - track.uv.residual(m_hits, a, va);
+  const double varUv = va + vh;
+  double wa = 0.0;
+  double wh = 0.0;
+  const double eSz =
+      track.sz.residual(sh, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h], wh) -
+      track.sz.residual(sa, m_hits.z[a], m_hits.varZ[a], m_hits.varRxy[a], wa);
+  const double varSz = wa + wh;
+  if (!(varUv > 0.0) || !(varSz > 0.0)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return eUv * eUv / varUv + eSz * eSz / varSz;
+}
+
+std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
+  TrackCandidate& track = m_state.tracks[t];
+  if (!track.alive || track.helix || track.hits.size() < 3) {
+    return 0;
+  }
+  const std::vector<ConfIndex>& hits = track.hits;
+  const ArcFrame arc = makeArcFrame(track.uv, m_hits, hits.front());
+  std::vector<double> hitS(hits.size(), 0.0);
+  for (std::size_t k = 1; k < hits.size(); ++k) {
+    hitS[k] = arc.arcLength(m_hits.x[hits[k]], m_hits.y[hits[k]], hitS[k - 1]);
+  }
+  const double slope = std::abs(track.sz.tanLambda);
+
+  std::vector<std::pair<ConfIndex, double>> added;
+  std::vector<OverlapCandidate> candidates;
+  auto onTrackSensor = [&](ConfIndex h) {
+    for (ConfIndex k : hits) {
+      if (m_hits.sameSensor(k, h)) {
+        return true;
+      }
+    }
+    for (const auto& [k, s] : added) {
+      if (m_hits.sameSensor(k, h)) {
+        return true;
+      }
+    }
+    return false;
+  };
+  auto hitsOnLayer = [&](std::uint32_t layer) {
+    std::uint32_t n = 0;
+    for (ConfIndex k : hits) {
+      n += m_hits.layer[k] == layer ? 1u : 0u;
+    }
+    for (const auto& [k, s] : added) {
+      n += m_hits.layer[k] == layer ? 1u : 0u;
+    }
+    return n;
+  };
+
+  for (std::size_t k = 0; k < hits.size(); ++k) {
+    const ConfIndex a = hits[k];
+    const std::uint32_t layer = m_hits.layer[a];
+    if (m_inPool[layer] == 0 ||
+        hitsOnLayer(layer) >= m_config.maxHitsPerLayer) {
+      continue;
+    }
+    // The second crossing lies at most maxGap further along the layer's
+    // normal (radial on barrels, z on disks): a transverse arc of maxGap /
+    // cos(psi) on a barrel crossed at psi to the radial direction, maxGap /
+    // |tanLambda| on a disk.
+    const double r = std::max(m_hits.radius[a], 1.0);
+    const double dx = m_hits.x[a] - arc.centreX;
+    const double dy = m_hits.y[a] - arc.centreY;
+    const double dr = std::max(norm2(dx, dy), 1e-9);
+    // Tangent of the circle at a, and its cosine to the radial direction.
+    const double cosPsi =
+        std::abs((m_hits.x[a] * -dy + m_hits.y[a] * dx) / (r * dr));
+    const bool disk = m_hits.isEndcap(a);
+    const double arcReach =
+        disk
+            ? std::min(m_config.maxArc, m_config.maxGap / std::max(slope, 1e-3))
+            : std::min(m_config.maxArc,
+                       m_config.maxGap / std::max(cosPsi, 1e-3));
+    const double tanPsi = std::sqrt(std::max(0.0, 1.0 - cosPsi * cosPsi)) /
+                          std::max(cosPsi, 1e-3);
+    const double sideways =
+        disk ? arcReach : std::min(arcReach, m_config.maxGap * tanPsi);
+    const double halfPhi =
+        std::min(kMaxHalfPhi, (sideways + kSidewaysMargin) / r);
+    const double alongZ = slope * arcReach +
+                          kAlongSigmas * std::sqrt(m_hits.varZ[a]) +
+                          kSidewaysMargin;
+    const double alongR =
+        arcReach + kAlongSigmas * std::sqrt(m_hits.varRxy[a]) + kSidewaysMargin;
+    m_window.clear();
+    m_pool.layerBox(layer, m_hits.phi[a], halfPhi, m_hits.z[a] - alongZ,
+                    m_hits.z[a] + alongZ, r - alongR, r + alongR, m_window);
+    candidates.clear();
+    for (ConfIndex h : m_window) {
+      if (m_state.used[h] != 0 || m_hits.layer[h] != layer ||
+          onTrackSensor(h)) {
+        continue;
+      }
+      const double s = arc.arcLength(m_hits.x[h], m_hits.y[h], hitS[k]);
+      if (!(std::abs(s - hitS[k]) <= arcReach + kSidewaysMargin)) {
+        continue;
+      }
+      const double chi2 = pairChi2(track, a, hitS[k], h, s);
+      if (!(chi2 <= m_config.maxChi2)) {
+        continue;
+      }
+      candidates.push_back({m_hits.module[h], chi2, h, s});
+    }
+    if (candidates.empty()) {
+      continue;
+    }
+    // Best per sensor, then best sensors first (total order: chi2, hit).
+    std::sort(candidates.begin(), candidates.end(),
+              [](const OverlapCandidate& x, const OverlapCandidate& y) {
+                return std::tie(x.module, x.chi2, x.hit) <
+                       std::tie(y.module, y.chi2, y.hit);
+              });
+    candidates.erase(
+        std::unique(candidates.begin(), candidates.end(),
+                    [](const OverlapCandidate& x, const OverlapCandidate& y) {
+                      return x.module == y.module;
+                    }),
+        candidates.end());
+    std::sort(candidates.begin(), candidates.end(),
+              [](const OverlapCandidate& x, const OverlapCandidate& y) {
+                return std::tie(x.chi2, x.hit) < std::tie(y.chi2, y.hit);
+              });
+    std::uint32_t room = m_config.maxHitsPerLayer - hitsOnLayer(layer);
+    for (const OverlapCandidate& c : candidates) {
+      if (room == 0) {
+        break;
+      }
+      added.emplace_back(c.hit, c.s);
+      --room;
+    }
+  }
+  if (added.empty()) {
+    return 0;
+  }
+
+  // Insert along the track and refit with the track's model; a track whose
+  // fit fails with them keeps its hits.
+  std::vector<std::pair<double, ConfIndex>> ordered;
+  ordered.reserve(hits.size() + added.size());
+  for (std::size_t k = 0; k < hits.size(); ++k) {
+    ordered.emplace_back(hitS[k], hits[k]);
+  }
+  for (const auto& [h, s] : added) {
+    ordered.emplace_back(s, h);
+  }
+  std::stable_sort(
+      ordered.begin(), ordered.end(),
+      [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<ConfIndex> grown;
+  grown.reserve(ordered.size());
+  for (const auto& [s, h] : ordered) {
+    grown.push_back(h);
+  }
+  ConformalFitResult uv =
+      fitConformal(m_hits, grown, track.uv.quadratic, &track.uv);
+  if (!uv.valid) {
+    return 0;
+  }
+  const ArcFrame grownArc = makeArcFrame(uv, m_hits, grown.front());
+  SzFitResult sz = fitSz(m_hits, grown, grownArc);
+  if (!sz.valid) {
+    return 0;
+  }
+  for (const auto& [h, s] : added) {
+    m_state.used[h] = 1;
+    m_state.clones.addHit(h, t);
+  }
+  track.hits = std::move(grown);
+  track.uv = uv;
+  track.sz = sz;
+  track.pt = uv.pt(m_state.bzForPt);
+  m_stats.overlapHits += added.size();
+  return static_cast<std::uint32_t>(added.size());
+}
+
+void addOverlapHits(FinderState& state, const HitPool& pool, StepStats& stats) {
+  OverlapHitCollector::Config config;
+  config.maxChi2 = state.config.overlapMaxChi2;
+  config.maxArc = state.config.overlapMaxArc;
+  config.maxGap = state.config.overlapMaxGap;
+  OverlapHitCollector collector(state, pool, stats, config);
+  for (std::uint32_t t = 0; t < state.tracks.size(); ++t) {
+    collector.collect(t);
+  }
+}
+
+}  // namespace conftrack::detail
