@@ -15,6 +15,7 @@ void addReconstructCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
 void addEvaluateCommand(CLI::App& app);
 void addTrackmlCommands(CLI::App& app);
+void addDiagnoseCommand(CLI::App& app);
 void addDisplayCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addOverlayCommand(CLI::App& app);

@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
   cli::addRunCommand(app);
   cli::addEvaluateCommand(app);
   cli::addTrackmlCommands(app);
+  cli::addDiagnoseCommand(app);
   cli::addDisplayCommand(app);
   cli::addBenchCommand(app);
   cli::addOverlayCommand(app);

@@ -34,6 +34,22 @@ std::vector<std::uint64_t> trackmlLabels(
   return labels;
 }
 
+std::vector<double> trackmlHitWeights(const Event& event, bool* computed) {
+  std::vector<double> weights(event.truth.size());
+  double total = 0.0;
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    weights[i] = event.truth[i].weight;
+    total += weights[i];
+  }
+  if (total == 0.0) {
+    weights = computeTrackmlWeights(event.truth, event.particles);
+    if (computed != nullptr) {
+      *computed = true;
+    }
+  }
+  return weights;
+}
+
 TrackmlScore scoreTrackml(const Event& event,
                           std::span<const std::uint64_t> labels,
                           const TrackmlScoreConfig& config) {
@@ -48,16 +64,9 @@ TrackmlScore scoreTrackml(const Event& event,
   const std::size_t n = event.hits.size();
   TrackmlScore result;
 
-  std::vector<double> weights(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    weights[i] = event.truth[i].weight;
-  }
+  const std::vector<double> weights =
+      trackmlHitWeights(event, &result.weightsComputed);
   result.totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
-  if (result.totalWeight == 0.0) {
-    weights = computeTrackmlWeights(event.truth, event.particles);
-    result.weightsComputed = true;
-    result.totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
-  }
 
   // True number of hits per particle (score.py: value_counts of the truth),
   // noise (particle 0) included as if it were a particle.

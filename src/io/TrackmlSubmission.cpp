@@ -137,10 +137,9 @@ std::vector<std::uint64_t> readSubmission(
   return parseSubmission(readTextFile(file), file.string(), hits, eventId);
 }
 
-TrackmlScore scoreSubmission(const std::filesystem::path& submissionFile,
-                             const std::filesystem::path& eventDir,
-                             std::uint64_t eventNumber,
-                             const TrackmlScoreConfig& config) {
+SubmittedEvent readSubmittedEvent(const std::filesystem::path& submissionFile,
+                                  const std::filesystem::path& eventDir,
+                                  std::uint64_t eventNumber) {
   EventFiles files = EventFiles::locate(eventDir, eventNumber);
   if (!files.truth) {
     throw InputError(
@@ -149,10 +148,21 @@ TrackmlScore scoreSubmission(const std::filesystem::path& submissionFile,
                      .string()),
         "no such file (nor with .gz): scoring needs the truth");
   }
-  Event event = readEvent(eventDir, eventNumber, nullptr);
-  std::vector<std::uint64_t> labels =
-      readSubmission(submissionFile, event.hits, eventNumber);
-  return scoreTrackml(event, std::span<const std::uint64_t>(labels), config);
+  SubmittedEvent result;
+  result.event = readEvent(eventDir, eventNumber, nullptr);
+  result.labels =
+      readSubmission(submissionFile, result.event.hits, eventNumber);
+  return result;
+}
+
+TrackmlScore scoreSubmission(const std::filesystem::path& submissionFile,
+                             const std::filesystem::path& eventDir,
+                             std::uint64_t eventNumber,
+                             const TrackmlScoreConfig& config) {
+  const SubmittedEvent submitted =
+      readSubmittedEvent(submissionFile, eventDir, eventNumber);
+  return scoreTrackml(submitted.event,
+                      std::span<const std::uint64_t>(submitted.labels), config);
 }
 
 }  // namespace conftrack

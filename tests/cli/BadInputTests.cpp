@@ -212,6 +212,17 @@ const std::vector<BadInput>& cases() {
        },
        "score -s {dir}/submission -i {dir}/ev",
        R"(^\S+-truth\.csv:3: column 'weight': '-1' is negative$)"},
+      {"DiagnoseWithoutTruth",
+       [](const fs::path& d) {
+         copyBase("ev", d / "ev");
+         copyBase("submission", d / "submission");
+         fs::remove(d / "ev" / "event000000001-truth.csv");
+       },
+       "diagnose -s {dir}/submission -i {dir}/ev",
+       R"(^\S+-truth\.csv: no such file \(nor with \.gz\): scoring needs the truth$)"},
+      {"DiagnoseStrayHitsNegative", nothing,
+       "diagnose -s {dir} -i {dir} --stray-hits -1",
+       R"(^--stray-hits: '-1' is not a whole number in \[0, 1000\])"},
       {"FittedTrackWithOmegaZero",
        [](const fs::path& d) {
          copyBase("ev", d / "ev");
@@ -268,6 +279,13 @@ const std::vector<BadInput>& cases() {
       {"OutputFileIsAFolderDisplay",
        [](const fs::path& d) { writeHits(d, kHeader + kRows); },
        "display -i {dir}/ev -o {dir}/ev",
+       R"(^-o \S+/ev: is a folder, expected a file name$)"},
+      {"OutputFileIsAFolderDiagnose",
+       [](const fs::path& d) {
+         copyBase("ev", d / "ev");
+         copyBase("submission", d / "submission");
+       },
+       "diagnose -s {dir}/submission -i {dir}/ev -o {dir}/ev",
        R"(^-o \S+/ev: is a folder, expected a file name$)"},
       // ------------------------------------------------ detector TOML
       {"DetectorUnknownKey", detector("bz_T = 4.0", "bz_T = 4.0\ncolour = 3"),

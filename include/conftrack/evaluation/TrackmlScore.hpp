@@ -63,6 +63,13 @@ struct TrackmlScore {
   double fakeRate = 0.0;
 };
 
+/// The hit weights the score uses, parallel to event.hits: the truth's, or,
+/// if they are all 0 (e.g. a truth file without a weight column), computed
+/// from the truth and event.particles as trackml-library does
+/// (computeTrackmlWeights; then `*computed` is set to true if given).
+std::vector<double> trackmlHitWeights(const Event& event,
+                                      bool* computed = nullptr);
+
 /// Scores `labels` (one track id per hit, parallel to event.hits) against
 /// the event's truth. Weights come from the truth; if they are all 0 (e.g.
 /// a truth file without a weight column) they are computed from the truth

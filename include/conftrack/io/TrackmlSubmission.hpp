@@ -7,6 +7,7 @@
 /// track (labels: TrackmlScore.hpp, trackmlLabels). And scoring them
 /// against a truth file.
 
+#include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Types.hpp"
 #include "conftrack/evaluation/TrackmlScore.hpp"
@@ -55,6 +56,21 @@ std::vector<std::uint64_t> readSubmission(
 std::vector<std::uint64_t> parseSubmission(
     std::string text, const std::string& source, const std::vector<Hit>& hits,
     std::optional<std::uint64_t> eventId = std::nullopt);
+
+/// An event with truth and a submission's track ids for its hits.
+struct SubmittedEvent {
+  Event event;
+  /// Track id per hit, parallel to event.hits.
+  std::vector<std::uint64_t> labels;
+};
+
+/// Reads event `eventNumber` of `eventDir` (hits, truth and particles
+/// files, without a detector: hits carry raw TrackML volume and layer ids)
+/// and `submissionFile` for it. The truth file is required (InputError
+/// "file: no such file ..." otherwise); errors as readSubmission.
+SubmittedEvent readSubmittedEvent(const std::filesystem::path& submissionFile,
+                                  const std::filesystem::path& eventDir,
+                                  std::uint64_t eventNumber);
 
 /// Scores `submissionFile` against event `eventNumber` of `eventDir`
 /// (hits, truth and particles files, read without a detector). The truth
