@@ -104,6 +104,33 @@ TEST(OverlapHits, TrackHoldsBothHitsOfAnOverlap) {
   EXPECT_EQ(off.steps[0].overlapHits, 0u);
 }
 
+TEST(OverlapHits, TwoHitsOnEveryLayerGiveOneTrack) {
+  // A second sensor 2 mm outside every layer: the automaton can build two
+  // disjoint candidates of the particle (one through each sensor), which
+  // share no hit and so are no clones; the overlap search gives each the
+  // other's hits, and the two are merged into one track.
+  const Detector det = test::barrelDetector();
+  std::vector<Hit> hits = test::helixHits(det, kRho, kPhi0, 1, kTanL, 1);
+  const std::size_t n = hits.size();
+  for (std::size_t l = 0; l < n; ++l) {
+    const Vector3 p = helixAtRadius(det.layers()[l].r + 2.0);
+    Hit second = test::barrelHit(det, static_cast<std::uint16_t>(l), p.x(),
+                                 p.y(), p.z(), 200 + l);
+    second.detId.module = hits[l].detId.module + 1;
+    hits.push_back(second);
+  }
+  const FindingResult r = ConformalTrackFinder(det, {oneStep(true)}).run(hits);
+  ASSERT_EQ(r.tracks.size(), 1u);
+  EXPECT_EQ(r.tracks[0].hits.size(), 2 * n);
+  // The two candidates through the two sensors of every layer, merged.
+  EXPECT_EQ(r.steps[0].mergedTracks, 1u);
+  // In path order: radii grow along the track.
+  for (std::size_t k = 1; k < r.tracks[0].hits.size(); ++k) {
+    EXPECT_LT(hits[r.tracks[0].hits[k - 1]].position.head<2>().norm(),
+              hits[r.tracks[0].hits[k]].position.head<2>().norm());
+  }
+}
+
 TEST(OverlapHits, OrderOfTheInputHitsDoesNotMatter) {
   const Detector det = test::barrelDetector();
   std::vector<Hit> hits = trackWithOverlap(det, 3.0, false);

@@ -265,6 +265,119 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
   return static_cast<std::uint32_t>(added.size());
 }
 
+namespace {
+
+/// Arc lengths of `hits` on the circle of `arc`, each unwrapped against
+/// the nearest (in 3-D) hit of the reference list (refHits, refS).
+void arcLengths(const ConformalHits& ch, const ArcFrame& arc,
+                const std::vector<ConfIndex>& refHits,
+                const std::vector<double>& refS,
+                const std::vector<ConfIndex>& hits, std::vector<double>& out) {
+  out.resize(hits.size());
+  for (std::size_t k = 0; k < hits.size(); ++k) {
+    const ConfIndex h = hits[k];
+    double best = std::numeric_limits<double>::infinity();
+    double near = 0.0;
+    for (std::size_t j = 0; j < refHits.size(); ++j) {
+      const ConfIndex r = refHits[j];
+      const double dx = ch.x[h] - ch.x[r];
+      const double dy = ch.y[h] - ch.y[r];
+      const double dz = ch.z[h] - ch.z[r];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 < best) {
+        best = d2;
+        near = refS[j];
+      }
+    }
+    out[k] = arc.arcLength(ch.x[h], ch.y[h], near);
+  }
+}
+
+}  // namespace
+
+std::uint32_t mergeTracksSharingHits(FinderState& state, StepStats& stats) {
+  const ConformalHits& ch = state.hits;
+  // (hit, track) of every live track's hits; hits held twice pair tracks.
+  std::vector<std::pair<ConfIndex, std::uint32_t>> owners;
+  for (std::uint32_t t = 0; t < state.tracks.size(); ++t) {
+    if (state.tracks[t].alive) {
+      for (ConfIndex h : state.tracks[t].hits) {
+        owners.emplace_back(h, t);
+      }
+    }
+  }
+  std::sort(owners.begin(), owners.end());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t k = 1; k < owners.size(); ++k) {
+    if (owners[k].first == owners[k - 1].first &&
+        owners[k].second != owners[k - 1].second) {
+      pairs.emplace_back(owners[k - 1].second, owners[k].second);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+
+  std::uint32_t merged = 0;
+  std::vector<double> sA;
+  std::vector<double> sB;
+  for (const auto& [a, b] : pairs) {
+    TrackCandidate& ta = state.tracks[a];
+    TrackCandidate& tb = state.tracks[b];
+    if (!ta.alive || !tb.alive || ta.helix || tb.helix) {
+      continue;
+    }
+    // Both halves along the first track's circle.
+    const ArcFrame arc = makeArcFrame(ta.uv, ch, ta.hits.front());
+    sA.assign(ta.hits.size(), 0.0);
+    for (std::size_t k = 1; k < ta.hits.size(); ++k) {
+      sA[k] = arc.arcLength(ch.x[ta.hits[k]], ch.y[ta.hits[k]], sA[k - 1]);
+    }
+    arcLengths(ch, arc, ta.hits, sA, tb.hits, sB);
+    std::vector<std::pair<double, ConfIndex>> ordered;
+    ordered.reserve(ta.hits.size() + tb.hits.size());
+    for (std::size_t k = 0; k < ta.hits.size(); ++k) {
+      ordered.emplace_back(sA[k], ta.hits[k]);
+    }
+    for (std::size_t k = 0; k < tb.hits.size(); ++k) {
+      if (std::find(ta.hits.begin(), ta.hits.end(), tb.hits[k]) ==
+          ta.hits.end()) {
+        ordered.emplace_back(sB[k], tb.hits[k]);
+      }
+    }
+    std::sort(ordered.begin(), ordered.end());
+    std::vector<ConfIndex> hits;
+    hits.reserve(ordered.size());
+    bool conflict = false;
+    for (const auto& [s, h] : ordered) {
+      for (ConfIndex k : hits) {
+        conflict = conflict || ch.sameSensor(k, h);
+      }
+      hits.push_back(h);
+    }
+    if (conflict) {
+      continue;
+    }
+    // The merged track must pass the cuts of the step that built the first.
+    TrackCandidate out;
+    if (!fitCandidate(state, state.config.steps[ta.step], hits, out)) {
+      continue;
+    }
+    out.step = ta.step;
+    out.fitBackward = ta.fitBackward;
+    for (ConfIndex h : out.hits) {
+      state.used[h] = 1;
+    }
+    ta = std::move(out);
+    tb.alive = false;
+    ++merged;
+  }
+  if (merged > 0) {
+    state.compact();
+  }
+  stats.mergedTracks += merged;
+  return merged;
+}
+
 void addOverlapHits(FinderState& state, const HitPool& pool, StepStats& stats) {
   OverlapHitCollector::Config config;
   config.maxChi2 = state.config.overlapMaxChi2;
@@ -274,6 +387,7 @@ void addOverlapHits(FinderState& state, const HitPool& pool, StepStats& stats) {
   for (std::uint32_t t = 0; t < state.tracks.size(); ++t) {
     collector.collect(t);
   }
+  mergeTracksSharingHits(state, stats);
 }
 
 }  // namespace conftrack::detail

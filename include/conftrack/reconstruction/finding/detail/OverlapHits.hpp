@@ -63,8 +63,18 @@ class OverlapHitCollector {
   std::vector<ConfIndex> m_window;
 };
 
-/// Runs the collector over every live track (in track order, so earlier
-/// tracks take contested hits first; the order is deterministic).
+/// Merges pairs of live tracks that share hits into one, where the union
+/// (no two hits on one sensor) passes the chi2 cuts of the step that built
+/// the first: with two hits on many layers the automaton builds two
+/// nearly disjoint candidates of one particle (one through each sensor of
+/// an overlap), which the clone treatment cannot see as clones, and the
+/// overlap search then gives each the other's hits. Pairs are taken in
+/// (track, track) order. Returns the number of merges.
+std::uint32_t mergeTracksSharingHits(FinderState& state, StepStats& stats);
+
+/// Runs the collector over every live track (in track order; a hit may go
+/// to two tracks of one particle built through different sensors), then
+/// mergeTracksSharingHits.
 void addOverlapHits(FinderState& state, const HitPool& pool, StepStats& stats);
 
 }  // namespace conftrack::detail
