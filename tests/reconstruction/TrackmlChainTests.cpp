@@ -79,7 +79,12 @@ std::vector<Particle> readKaggleParticles(const fs::path& file) {
 TEST(TrackmlChain, ShippedChainSettings) {
   const Detector detector = loadDetector("trackml");
   const FinderConfig c = readChain(resolveChainPath("trackml"), detector);
-  ASSERT_EQ(c.steps.size(), 4u);
+  ASSERT_EQ(c.steps.size(), 6u);
+  EXPECT_TRUE(c.overlapHits);
+  // The low-momentum build (step 4) and its extension (step 5).
+  EXPECT_TRUE(c.steps[4].build && c.steps[4].minHits == 6 &&
+              c.steps[4].chi2Cut == 3000.0);
+  EXPECT_TRUE(c.steps[5].extend && !c.steps[5].build);
   EXPECT_TRUE(c.steps[0].build && c.steps[0].straightLineFit &&
               c.steps[0].radialSearch);
   EXPECT_DOUBLE_EQ(c.steps[0].maxSeedZ0, 20.0);
