@@ -63,12 +63,26 @@ TEST(Chain, ShippedChainsMatchTheReference) {
 
   Detector cld = loadDetector("cld");
   FinderConfig d = readChain(resolveChainPath("cld"), cld);
-  ASSERT_EQ(d.steps.size(), 6u);
+  // Eight steps since issue 15 item 5: CLDConfig's six plus the CLICdet
+  // chain's Displaced4 and DisplacedHelix (chains/cld.toml gives the
+  // measurements; CldChainTests checks their effect).
+  ASSERT_EQ(d.steps.size(), 8u);
   // algorithm.md 13.2 (CLDConfig).
   EXPECT_DOUBLE_EQ(d.steps[0].maxDistance, 0.05);
   EXPECT_DOUBLE_EQ(d.steps[3].maxCellAngle, 0.1);
   EXPECT_DOUBLE_EQ(d.steps[4].highPtCut, 1.0);
   EXPECT_DOUBLE_EQ(d.steps[5].maxDistance, 0.015);
+  EXPECT_EQ(d.steps[5].direction, SearchDirection::eOutsideIn);
+  // The CLICdet treatment, with CLD's layer spacing (outer-tracker barrel
+  // layers 570 mm apart against CLICdet's 330 mm).
+  EXPECT_DOUBLE_EQ(d.steps[5].maxSeedLength, 1000.0);
+  EXPECT_EQ(d.steps[6].name, "Displaced4");
+  EXPECT_EQ(d.steps[6].minHits, 4u);
+  EXPECT_EQ(d.steps[6].direction, SearchDirection::eOutsideIn);
+  EXPECT_EQ(d.steps[7].name, "DisplacedHelix");
+  EXPECT_TRUE(d.steps[7].helix && !d.steps[7].build && !d.steps[7].extend);
+  EXPECT_DOUBLE_EQ(d.steps[7].maxSeedLength, 700.0);
+  EXPECT_EQ(d.steps[7].maxMissedLayers, 0u);
 }
 
 TEST(Chain, MinimalStepParses) { EXPECT_EQ(errorOf(kStep), "(accepted)"); }
