@@ -325,14 +325,11 @@ TEST(FitTrack, FillsTheTrack) {
   // mu- in Bz > 0: negative curvature.
   EXPECT_LT(track.atIp.parameters[eOmega], 0.0);
   // First and last states at the first and last hit.
-  EXPECT_LT(
-      (track.atFirstHit.reference - mu.event.hits[candidate.front()].position)
-          .norm(),
-      0.1 * units::mm);
-  EXPECT_LT(
-      (track.atLastHit.reference - mu.event.hits[candidate.back()].position)
-          .norm(),
-      1.0 * units::mm);
+  const std::vector<Hit>& h = mu.event.hits;
+  EXPECT_LT((track.atFirstHit.reference - h[candidate[0]].position).norm(),
+            0.1 * units::mm);
+  EXPECT_LT((track.atLastHit.reference - h[candidate.back()].position).norm(),
+            1.0 * units::mm);
   EXPECT_TRUE(
       track.atIp.covariance.isApprox(track.atIp.covariance.transpose(), 1e-12));
   EXPECT_EQ(track.atIp.covariance.llt().info(), Eigen::Success);
@@ -382,8 +379,7 @@ TEST(FitTrack, TooFewHitsAndBadInput) {
   EXPECT_FALSE(fitter.fit(mu.event.hits, {two}, &info).fitted);
   EXPECT_EQ(info.status, FitStatus::eTooFewHits);
   // Three hits on one point: no prefit.
-  const std::vector<HitIndex> same = {mu.candidate[0], mu.candidate[0],
-                                      mu.candidate[0]};
+  const std::vector<HitIndex> same(3, mu.candidate[0]);
   EXPECT_FALSE(fitter.fit(mu.event.hits, {same}, &info).fitted);
   EXPECT_EQ(info.status, FitStatus::ePrefitFailed);
   std::vector<Hit> hits = mu.event.hits;
