@@ -6,6 +6,7 @@
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
@@ -26,7 +27,8 @@ using namespace conftrack;
 struct TtbarSample {
   Detector detector = loadDetector("clicdet");
   Event event;
-  std::vector<FoundTrack> candidates;
+  std::vector<FoundTrack> found;
+  std::vector<FitInput> candidates;
 
   TtbarSample() {
     EventSimulation::Config config;
@@ -36,7 +38,10 @@ struct TtbarSample {
     event = EventSimulation(detector, config).simulate(1);
     const ConformalTrackFinder finder(
         detector, {readChain(resolveChainPath("clicdet"), detector)});
-    candidates = finder.run(event.hits).tracks;
+    found = finder.run(event.hits).tracks;
+    for (const FoundTrack& f : found) {
+      candidates.push_back(fitInput(f));
+    }
   }
 };
 
@@ -88,18 +93,18 @@ void fitSingleMuon(benchmark::State& state) {
   Event event;
   RandomEngine simRng = makeEngine(2, 0, RandomStream::eSimulation);
   Simulator(detector).simulate(particles, simRng, event);
-  FoundTrack candidate;
+  std::vector<HitIndex> candidate;
   for (std::size_t h = 0; h < event.hits.size(); ++h) {
-    candidate.hits.push_back(static_cast<HitIndex>(h));
+    candidate.push_back(static_cast<HitIndex>(h));
   }
   KalmanFitter::Config config;
   config.pdg = 13;
   const KalmanFitter fitter(detector, config);
   for (auto _ : state) {
-    Track track = fitter.fit(event.hits, candidate);
+    Track track = fitter.fit(event.hits, {candidate});
     benchmark::DoNotOptimize(track.atIp.parameters.data());
   }
-  state.counters["hits"] = static_cast<double>(candidate.hits.size());
+  state.counters["hits"] = static_cast<double>(candidate.size());
 }
 BENCHMARK(fitSingleMuon)->Unit(benchmark::kMicrosecond);
 

@@ -39,7 +39,10 @@ void runDisplay(const DisplayOptions& opt) {
   if (!opt.tracks.empty()) {
     tracks = readTracks(opt.tracks, number, event.hits);
   } else {
-    Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
+    // As reconstruct (without --module-level): TrackML hits on their
+    // modules' planes.
+    Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector),
+                        loadSensorLayout(detector, false));
     tracks = reco.run(event.hits).tracks;
   }
   std::string title = detector.name() + " event " + std::to_string(number);

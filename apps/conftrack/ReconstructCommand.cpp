@@ -29,6 +29,8 @@ struct ReconstructOptions {
   bool gzip = false;
   /// Also write TrackML submission files.
   bool submission = false;
+  /// The hits come from a module-level simulation (loadSensorLayout).
+  bool moduleLevel = false;
 };
 
 struct EventReport {
@@ -41,7 +43,8 @@ struct EventReport {
 
 void runReconstruct(const ReconstructOptions& opt) {
   Detector detector = loadDetector(opt.reco.detector);
-  Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector));
+  Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector),
+                      loadSensorLayout(detector, opt.moduleLevel));
   std::vector<std::uint64_t> events = requireEvents(opt.input);
   prepareOutputFolder(opt.output, "-o");
   std::vector<EventReport> reports(events.size());
@@ -99,6 +102,11 @@ void addReconstructCommand(CLI::App& app) {
   cmd->add_flag("--submission", opt->submission,
                 "Also write TrackML submission files "
                 "(eventNNNNNNNNN-submission.csv)");
+  cmd->add_flag("--module-level", opt->moduleLevel,
+                "The hits come from the sensors of data/layouts/<detector>"
+                "_layout.json.gz (simulate --module-level): the fit measures "
+                "them on their sensors' planes (TrackML: always, with the "
+                "modules of data/trackml/detectors.csv.gz)");
   cmd->callback([opt]() { runReconstruct(*opt); });
 }
 

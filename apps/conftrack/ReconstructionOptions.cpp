@@ -1,5 +1,10 @@
 #include "ReconstructionOptions.hpp"
 
+#include "conftrack/core/DataFiles.hpp"
+#include "conftrack/core/Error.hpp"
+#include "conftrack/geometry/TrackmlModuleLayout.hpp"
+#include "conftrack/io/LayoutFile.hpp"
+#include "conftrack/io/TextFile.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 
 #include <filesystem>
@@ -19,6 +24,30 @@ void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& o) {
          "Mass hypothesis of the fit (PDG code: 211, 13, 11, 321, 2212)")
       ->capture_default_str()
       ->check(pdgCode());
+}
+
+std::shared_ptr<const ModuleLayout> loadSensorLayout(const Detector& detector,
+                                                     bool moduleLevel) {
+  if (detector.name() == "TrackML") {
+    const std::filesystem::path csv =
+        dataDirectory() / "data" / "trackml" / "detectors.csv.gz";
+    TrackmlDetectorOptions options;
+    options.source = csv.string();
+    return std::make_shared<const ModuleLayout>(buildTrackmlModuleLayout(
+        parseTrackmlModules(readTextFile(csv), csv.string()), detector,
+        options));
+  }
+  if (!moduleLevel) {
+    return nullptr;
+  }
+  const std::filesystem::path file = shippedLayoutFile(detector);
+  if (!std::filesystem::exists(file)) {
+    throw InputError("--module-level: detector " + detector.name() +
+                     " has no layout file " + file.string() +
+                     " (CLICdet and CLD have one)");
+  }
+  return std::make_shared<const ModuleLayout>(
+      readLayoutModules(file, detector));
 }
 
 Reconstruction::Config makeReconstructionConfig(const ReconstructionOptions& o,

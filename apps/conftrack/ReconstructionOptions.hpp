@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <memory>
 #include <string>
 
 namespace conftrack::cli {
@@ -24,6 +25,14 @@ struct ReconstructionOptions {
 
 /// Adds --detector, --chain, --no-fit, --fit-pdg.
 void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& options);
+
+/// The sensors on whose planes the fit measures hits read from files
+/// (which carry only their layer's axes), by DetectorId module number: for
+/// the TrackML detector its modules (data/trackml/detectors.csv.gz, whose
+/// module_id the hit files use); for another detector with `moduleLevel`
+/// its shipped layout (the hits of simulate --module-level); else none.
+std::shared_ptr<const ModuleLayout> loadSensorLayout(const Detector& detector,
+                                                     bool moduleLevel);
 
 /// The Reconstruction configuration for `detector` (reads the chain).
 Reconstruction::Config makeReconstructionConfig(

@@ -161,7 +161,12 @@ void runReport(const RunOptions& opt, const Detector& detector,
                            << effectiveThreads(opt.threads) << " threads");
     forEachEvent(sub.events, opt.threads, "run", [&](std::size_t i) {
       auto t0 = Clock::now();
-      Event event = sim.simulate(i + 1);
+      // Event numbers run on across the sub-samples of a report: with the
+      // same seed, event k of every sub-sample would reuse the same random
+      // streams (smearing, scattering), and the 15 points of --study muons
+      // would be one sample of -n independent tracks, not 15 (their pull
+      // widths then scattered by +-10 % at -n 200).
+      Event event = sim.simulate(offset + i + 1);
       double simMs =
           std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
       Reconstruction::Result r = reco.run(event.hits);

@@ -12,10 +12,27 @@ TrackSelector::Config selectorConfig(const Reconstruction::Config& c) {
 }
 }  // namespace
 
-Reconstruction::Reconstruction(const Detector& detector, Config config)
+FitInput fitInput(const FoundTrack& found) {
+  return {found.hits, found.fitBackward};
+}
+
+Track withFit(const FoundTrack& found, Track fitted) {
+  Track track = toTrack(found);
+  track.outlier = std::move(fitted.outlier);
+  track.fitted = fitted.fitted;
+  track.atIp = fitted.atIp;
+  track.atFirstHit = fitted.atFirstHit;
+  track.atLastHit = fitted.atLastHit;
+  track.chi2 = fitted.chi2;
+  track.ndf = fitted.ndf;
+  return track;
+}
+
+Reconstruction::Reconstruction(const Detector& detector, Config config,
+                               std::shared_ptr<const ModuleLayout> sensors)
     : m_config(std::move(config)),
       m_finder(detector, {m_config.chain}),
-      m_fitter(detector, m_config.fitter),
+      m_fitter(detector, m_config.fitter, std::move(sensors)),
       m_selector(selectorConfig(m_config)) {}
 
 Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
@@ -27,12 +44,20 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   r.candidates = found.tracks.size();
   std::vector<Track> tracks;
   if (m_config.fit) {
-    FittingResult fitted = m_fitter.run(hits, found.tracks);
-    // The candidates are no longer needed: free them before the selection.
-    std::vector<FoundTrack>().swap(found.tracks);
+    std::vector<FitInput> inputs;
+    inputs.reserve(found.tracks.size());
+    for (const FoundTrack& f : found.tracks) {
+      inputs.push_back(fitInput(f));
+    }
+    FittingResult fitted = m_fitter.run(hits, inputs);
     r.fittingMs = fitted.milliseconds;
     r.fitFailures = fitted.failures;
-    tracks = std::move(fitted.tracks);
+    tracks.reserve(found.tracks.size());
+    for (std::size_t i = 0; i < found.tracks.size(); ++i) {
+      tracks.push_back(withFit(found.tracks[i], std::move(fitted.tracks[i])));
+    }
+    // The candidates are no longer needed: free them before the selection.
+    std::vector<FoundTrack>().swap(found.tracks);
   } else {
     tracks.reserve(found.tracks.size());
     for (const FoundTrack& f : found.tracks) {

@@ -19,6 +19,7 @@
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/fitting/HelixState.hpp"
@@ -30,6 +31,7 @@
 #include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -237,17 +239,17 @@ MuonSample fitMuons(double p, double theta, std::size_t n, std::uint64_t seed) {
     RandomEngine simRng = makeEngine(seed, i, RandomStream::eSimulation);
     simulator.simulate(particles, simRng, event);
     const Particle& muon = event.particles.front();
-    FoundTrack candidate;
+    std::vector<HitIndex> candidate;
     for (std::size_t h = 0; h < event.hits.size(); ++h) {
       if (event.truth[h].particleId == muon.id) {
-        candidate.hits.push_back(static_cast<HitIndex>(h));
+        candidate.push_back(static_cast<HitIndex>(h));
       }
     }
-    if (candidate.hits.size() < 3) {
+    if (candidate.size() < 3) {
       ++out.failures;
       continue;
     }
-    const Track track = fitter.fit(event.hits, candidate);
+    const Track track = fitter.fit(event.hits, {candidate});
     if (!track.fitted) {
       ++out.failures;
       continue;
@@ -276,7 +278,7 @@ MuonSample fitMuons(double p, double theta, std::size_t n, std::uint64_t seed) {
 /// One simulated muon and its truth candidate.
 struct MuonEvent {
   Event event;
-  FoundTrack candidate;
+  std::vector<HitIndex> candidate;
   Particle muon;
 };
 
@@ -295,7 +297,7 @@ MuonEvent simulateMuon(double p, double theta, std::uint64_t seed) {
   Simulator(clicdet()).simulate(particles, simRng, out.event);
   out.muon = out.event.particles.front();
   for (std::size_t h = 0; h < out.event.hits.size(); ++h) {
-    out.candidate.hits.push_back(static_cast<HitIndex>(h));
+    out.candidate.push_back(static_cast<HitIndex>(h));
   }
   return out;
 }
@@ -308,33 +310,25 @@ KalmanFitter muonFitter() {
 
 TEST(FitTrack, FillsTheTrack) {
   const MuonEvent mu = simulateMuon(10.0 * units::GeV, 60.0 * units::degree, 3);
-  FoundTrack candidate = mu.candidate;
-  candidate.step = 2;
-  candidate.pt = 8.5;
-  candidate.charge = -1;
+  const std::vector<HitIndex>& candidate = mu.candidate;
   FitInfo info;
-  const Track track = muonFitter().fit(mu.event.hits, candidate, &info);
+  const Track track = muonFitter().fit(mu.event.hits, {candidate}, &info);
   ASSERT_TRUE(track.fitted);
   EXPECT_EQ(info.status, FitStatus::eSuccess);
   EXPECT_FALSE(info.retried);
-  EXPECT_EQ(track.hits, candidate.hits);
+  EXPECT_EQ(track.hits, candidate);
   EXPECT_EQ(track.numOutliers(), 0u);
   EXPECT_EQ(track.ndf, 2 * static_cast<int>(track.hits.size()) - 5);
   EXPECT_GT(track.chi2, 0.0);
-  EXPECT_EQ(track.findingStep, 2);
-  EXPECT_EQ(track.ptEstimate, 8.5);
-  EXPECT_EQ(track.chargeEstimate, -1);
+  EXPECT_EQ(track.findingStep, 0);  // the finder's fields: withFit
   EXPECT_EQ(track.atIp.reference, Vector3::Zero());
   // mu- in Bz > 0: negative curvature.
   EXPECT_LT(track.atIp.parameters[eOmega], 0.0);
   // First and last states at the first and last hit.
-  EXPECT_LT((track.atFirstHit.reference -
-             mu.event.hits[candidate.hits.front()].position)
-                .norm(),
+  const std::vector<Hit>& h = mu.event.hits;
+  EXPECT_LT((track.atFirstHit.reference - h[candidate[0]].position).norm(),
             0.1 * units::mm);
-  EXPECT_LT((track.atLastHit.reference -
-             mu.event.hits[candidate.hits.back()].position)
-                .norm(),
+  EXPECT_LT((track.atLastHit.reference - h[candidate.back()].position).norm(),
             1.0 * units::mm);
   EXPECT_TRUE(
       track.atIp.covariance.isApprox(track.atIp.covariance.transpose(), 1e-12));
@@ -344,10 +338,8 @@ TEST(FitTrack, FillsTheTrack) {
 TEST(FitTrack, DirectionsAgree) {
   const MuonEvent mu = simulateMuon(5.0 * units::GeV, 40.0 * units::degree, 4);
   const KalmanFitter fitter = muonFitter();
-  FoundTrack backward = mu.candidate;
-  backward.fitBackward = true;
-  const Track a = fitter.fit(mu.event.hits, mu.candidate);
-  const Track b = fitter.fit(mu.event.hits, backward);
+  const Track a = fitter.fit(mu.event.hits, {mu.candidate, false});
+  const Track b = fitter.fit(mu.event.hits, {mu.candidate, true});
   ASSERT_TRUE(a.fitted && b.fitted);
   for (int k = 0; k < 5; ++k) {
     const double sigma = std::sqrt(a.atIp.covariance(k, k));
@@ -359,13 +351,12 @@ TEST(FitTrack, DirectionsAgree) {
 
 TEST(FitTrack, DisplacedHitIsAnOutlier) {
   MuonEvent mu = simulateMuon(10.0 * units::GeV, 80.0 * units::degree, 5);
-  ASSERT_GE(mu.candidate.hits.size(), 8u);
-  Hit& moved = mu.event.hits[mu.candidate.hits[6]];
+  ASSERT_GE(mu.candidate.size(), 8u);
+  Hit& moved = mu.event.hits[mu.candidate[6]];
   moved.position.z() += 2.0 * units::mm;  // 100s of sigma_z
   for (bool backward : {false, true}) {
-    FoundTrack candidate = mu.candidate;
-    candidate.fitBackward = backward;
-    const Track track = muonFitter().fit(mu.event.hits, candidate);
+    const Track track =
+        muonFitter().fit(mu.event.hits, {mu.candidate, backward});
     ASSERT_TRUE(track.fitted);
     EXPECT_EQ(track.numOutliers(), 1u);
     EXPECT_EQ(track.outlier[6], 1);
@@ -383,24 +374,21 @@ TEST(FitTrack, DisplacedHitIsAnOutlier) {
 TEST(FitTrack, TooFewHitsAndBadInput) {
   const MuonEvent mu = simulateMuon(10.0 * units::GeV, 80.0 * units::degree, 6);
   const KalmanFitter fitter = muonFitter();
-  FoundTrack two;
-  two.hits = {mu.candidate.hits[0], mu.candidate.hits[1]};
+  const std::vector<HitIndex> two = {mu.candidate[0], mu.candidate[1]};
   FitInfo info;
-  EXPECT_FALSE(fitter.fit(mu.event.hits, two, &info).fitted);
+  EXPECT_FALSE(fitter.fit(mu.event.hits, {two}, &info).fitted);
   EXPECT_EQ(info.status, FitStatus::eTooFewHits);
   // Three hits on one point: no prefit.
-  FoundTrack same;
-  same.hits = {mu.candidate.hits[0], mu.candidate.hits[0],
-               mu.candidate.hits[0]};
-  EXPECT_FALSE(fitter.fit(mu.event.hits, same, &info).fitted);
+  const std::vector<HitIndex> same(3, mu.candidate[0]);
+  EXPECT_FALSE(fitter.fit(mu.event.hits, {same}, &info).fitted);
   EXPECT_EQ(info.status, FitStatus::ePrefitFailed);
   std::vector<Hit> hits = mu.event.hits;
-  hits[mu.candidate.hits[2]].detId.layer = 999;
-  EXPECT_FALSE(fitter.fit(hits, mu.candidate, &info).fitted);
+  hits[mu.candidate[2]].detId.layer = 999;
+  EXPECT_FALSE(fitter.fit(hits, {mu.candidate}, &info).fitted);
   EXPECT_EQ(info.status, FitStatus::eUnknownLayer);
-  FoundTrack outOfRange = mu.candidate;
-  outOfRange.hits.push_back(99999);
-  EXPECT_THROW(fitter.fit(mu.event.hits, outOfRange), std::out_of_range);
+  std::vector<HitIndex> outOfRange = mu.candidate;
+  outOfRange.push_back(99999);
+  EXPECT_THROW(fitter.fit(mu.event.hits, {outOfRange}), std::out_of_range);
   KalmanFitter::Config bad;
   bad.minHits = 2;
   EXPECT_THROW(KalmanFitter(clicdet(), bad), std::invalid_argument);
@@ -428,14 +416,14 @@ TEST(FitTrack, MassHypothesisOfKnownPdgCodesOnly) {
 
 TEST(FitTrack, RunCountsAndKeepsOrder) {
   const MuonEvent mu = simulateMuon(2.0 * units::GeV, 45.0 * units::degree, 7);
-  FoundTrack two;
-  two.hits = {mu.candidate.hits[0], mu.candidate.hits[1]};
-  const FittingResult result =
-      muonFitter().run(mu.event.hits, {mu.candidate, two, mu.candidate});
+  const std::vector<HitIndex> two = {mu.candidate[0], mu.candidate[1]};
+  const FittingResult result = muonFitter().run(
+      mu.event.hits,
+      std::vector<FitInput>{{mu.candidate}, {two}, {mu.candidate}});
   ASSERT_EQ(result.tracks.size(), 3u);
   EXPECT_TRUE(result.tracks[0].fitted);
   EXPECT_FALSE(result.tracks[1].fitted);
-  EXPECT_EQ(result.tracks[1].hits, two.hits);
+  EXPECT_EQ(result.tracks[1].hits, two);
   EXPECT_EQ(result.tracks[2].atIp.parameters, result.tracks[0].atIp.parameters);
   EXPECT_EQ(result.failures, 1u);
   EXPECT_GE(result.milliseconds, 0.0);
@@ -570,7 +558,10 @@ TEST(FitFailures, TtbarWithOverlayFinderCandidates) {
   for (std::uint64_t number = 0; number < 5; ++number) {
     const Event event = ttbarEvent(31, number);
     const FindingResult found = finder.run(event.hits);
-    const FittingResult fitted = fitter.run(event.hits, found.tracks);
+    std::vector<FitInput> inputs(found.tracks.size());
+    std::transform(found.tracks.begin(), found.tracks.end(), inputs.begin(),
+                   fitInput);
+    const FittingResult fitted = fitter.run(event.hits, inputs);
     ASSERT_EQ(fitted.tracks.size(), found.tracks.size());
     candidates += found.tracks.size();
     failures += fitted.failures;
@@ -582,12 +573,12 @@ TEST(FitFailures, TtbarWithOverlayFinderCandidates) {
       const Track& track = fitted.tracks[i];
       if (!track.fitted) {
         FitInfo info;
-        fitter.fit(event.hits, found.tracks[i], &info);
+        fitter.fit(event.hits, inputs[i], &info);
         std::printf(
             "[failure] event %llu candidate %zu: %zu hits, step %u, "
             "status %d\n",
             static_cast<unsigned long long>(number), i, track.hits.size(),
-            track.findingStep, static_cast<int>(info.status));
+            found.tracks[i].step, static_cast<int>(info.status));
         continue;
       }
       EXPECT_TRUE(track.atIp.parameters.allFinite());

@@ -6,15 +6,25 @@
 
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/geometry/ModuleLayout.hpp"
 #include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"
 
+#include <memory>
 #include <span>
 #include <vector>
 
 namespace conftrack {
+
+/// The fitter's view of a found track: its hits (a view into `found`,
+/// which must outlive it) and its first fit direction.
+FitInput fitInput(const FoundTrack& found);
+
+/// The finder's track (toTrack) with the results of `fitted`, the fit of
+/// fitInput(found): outlier flags, states, chi2 and ndf.
+Track withFit(const FoundTrack& found, Track fitted);
 
 class Reconstruction {
  public:
@@ -40,7 +50,13 @@ class Reconstruction {
     double selectionMs = 0.0;
   };
 
-  Reconstruction(const Detector& detector, Config config);
+  /// `sensors`, if given, a module layout of `detector` whose module
+  /// numbers are those of the hits (TrackML files, a module-level
+  /// simulation): the fit measures each hit on its sensor's plane
+  /// (KalmanFitter). Without it hits are measured on the plane of their
+  /// own axes, a layer's tangent plane for hits read from files.
+  Reconstruction(const Detector& detector, Config config,
+                 std::shared_ptr<const ModuleLayout> sensors = nullptr);
 
   /// Reconstructs the tracks of one event. Thread-safe (const).
   Result run(std::span<const Hit> hits) const;

@@ -12,16 +12,20 @@
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/SurfaceNavigator.hpp"
 #include "conftrack/reconstruction/Track.hpp"
-#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
+#include "conftrack/reconstruction/fitting/FitInput.hpp"
 #include "conftrack/reconstruction/fitting/HelixState.hpp"
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace conftrack {
+
+class ModuleLayout;
 
 /// Why a fit failed (eSuccess if it did not).
 enum class FitStatus : std::uint8_t {
@@ -53,8 +57,8 @@ struct FitInfo {
 
 /// Counters and output of fitting one event.
 struct FittingResult {
-  /// One track per candidate, in candidate order; `fitted` false where
-  /// the fit failed (the finder information is still filled).
+  /// One track per candidate, in candidate order, with its hits and
+  /// outlier flags; `fitted` false where the fit failed.
   std::vector<Track> tracks;
   /// Candidates whose fit failed in both directions.
   std::size_t failures = 0;
@@ -68,7 +72,8 @@ struct FittingResult {
   double milliseconds = 0.0;
 };
 
-/// Kalman fitter of found tracks.
+/// Kalman fitter of track candidates (FitInput: hit indices and the first
+/// direction; it needs nothing of the finder).
 ///
 /// Track model (HelixState.hpp): the five LCIO parameters relative to a
 /// pivot that moves with the fit to each surface crossing (KalTest style),
@@ -83,9 +88,10 @@ struct FittingResult {
 ///     diffuse covariance except sigma(Omega), which is taken relative to
 ///     the prefit curvature (Config::prefitOmegaFraction);
 ///  2. filter pass in the first direction (along the path, or against it
-///     for FoundTrack::fitBackward), hits with a chi2 increment above
-///     Config::maxChi2Increment flagged as outliers, hits whose surface the
-///     predicted track does not reach skipped;
+///     for FitInput::backward), hits with a chi2 increment above
+///     Config::maxChi2Increment flagged as outliers (an outlier leaves no
+///     node: the pass goes on from the last used one), hits whose surface
+///     the predicted track does not reach skipped;
 ///  3. filter pass in the opposite direction, started from the end of
 ///     pass 2 with its covariance scaled by Config::refitCovarianceScale
 ///     (the "error rescaling" of CMS's KFFittingSmoother: a smoother over
@@ -101,16 +107,31 @@ struct FittingResult {
 /// upstream MaxHitInvertedFit), then once with the fully diffuse start
 /// (Config::diffuseFallback).
 ///
-/// Measurements: 2-D in the hit's local frame; barrel (u, v) = (R phi, z)
-/// with u the arc on the layer cylinder (as the smearing), disk u and v
-/// the projections on the hit's tangential and radial axes. The
-/// measurement matrix includes the shift of the crossing point along the
-/// track when d0 or z0 change, dX/da = (1 - t g^T / (g . t)) dX/da|_s, g
-/// the surface normal and t the direction. The update is iterated (IEKF,
-/// Gauss-Newton on the node's chi2, a step accepted only if it lowers it)
-/// where the exact crossing deviates from the linear model, which matters
-/// near tangent crossings of a layer (low pT) and after long
-/// extrapolations; the covariance update is in Joseph form.
+/// Measurements: 2-D, on the hit's own sensor plane (Config::sensorPlanes):
+/// the plane through the hit with normal u x v of the hit's axes (or of its
+/// sensor in the ModuleLayout given to the constructor), reached from the
+/// layer crossing by an exact helix-plane intersection (Newton's method);
+/// the residual is (u, v) in that plane. Sensors of a module-level
+/// detector are flat, tilted and staggered by millimetres around the
+/// layer's navigation surface, and two hits of one layer (overlapping
+/// sensors) are two measurements on two planes. For a hit of an ideal
+/// layer the plane is the tangent plane of the cylinder (or the disk
+/// itself), which agrees with a measurement on the cylinder to second
+/// order in the residual. The measurement matrix includes the shift of
+/// the crossing point along the track when d0 or z0 change,
+/// dX/da = (1 - t g^T / (g . t)) dX/da|_s, g the plane normal and t the
+/// direction. The update is iterated (IEKF, Gauss-Newton on the node's
+/// chi2, a step accepted only if it lowers it) where the exact crossing
+/// deviates from the linear model, which matters near tangent crossings
+/// (low pT) and after long extrapolations; the covariance update is in
+/// Joseph form.
+///
+/// Navigation and material stay per layer: a node's state is moved from
+/// the layer crossing to its plane for the update and back for the
+/// propagation, and consecutive hits of one crossing of one layer are
+/// linked by the plane-to-plane move only, so that the layer's material
+/// is applied once per crossing (after all its hits along the motion, as
+/// the simulation, which deflects the particle once per layer crossing).
 ///
 /// Material, at every crossed surface (sensitive with or without a hit,
 /// passive), as Simulator: x/X0 = t/|cos alpha| with the same caps,
@@ -202,29 +223,43 @@ class KalmanFitter {
     bool materialToIp = true;
     /// Safety cap on the surfaces crossed between two nodes.
     unsigned maxCrossingsPerStep = 200;
+    /// Measure each hit on its sensor's plane (see the class comment);
+    /// false: on the layer's navigation surface (cylinder with u the arc
+    /// r phi, or disk), the fit before sensor planes, kept for comparison.
+    bool sensorPlanes = true;
   };
 
   /// A fitter for `detector` (copied; no reference is kept). Throws
   /// std::invalid_argument for a zero field or invalid settings.
   explicit KalmanFitter(const Detector& detector);
-  KalmanFitter(const Detector& detector, const Config& config);
+  /// With `sensors` (a module layout of `detector`), a hit whose layer has
+  /// sensors there is measured on the plane of its sensor (DetectorId
+  /// module number); its u and v axes become the sensor's (the one nearer
+  /// to the hit's u is u, so Hit::sigmaU stays along it). Without, or for
+  /// a module number the layout does not have, the hit's own axes: hits
+  /// read from files carry their layer's axes, simulated ones their
+  /// sensor's. Throws std::invalid_argument for a layout of another
+  /// detector.
+  KalmanFitter(const Detector& detector, const Config& config,
+               std::shared_ptr<const ModuleLayout> sensors = nullptr);
 
   /// The settings.
   const Config& config() const { return m_config; }
   /// The surfaces and crossing search (shared with the simulation code).
   const SurfaceNavigator& navigator() const { return m_navigator; }
 
-  /// Fits one found track. `hits` is the event's hit array that
-  /// found.hits indexes. The result carries the finder information, the
-  /// hits (all, in found order) with outlier flags, and, if fitted, the
-  /// states at the IP (reference origin), first and last used hit, chi2
-  /// and ndf = 2 n_used - 5.
-  Track fit(std::span<const Hit> hits, const FoundTrack& found,
+  /// Fits one candidate. `hits` is the event's hit array that
+  /// input.hits indexes. The result carries the hits (all, in input order)
+  /// with outlier flags and, if fitted, the states at the IP (reference
+  /// origin), first and last used hit, chi2 and ndf = 2 n_used - 5; its
+  /// finding fields are left at their defaults. Throws std::out_of_range
+  /// for a hit index beyond `hits`.
+  Track fit(std::span<const Hit> hits, const FitInput& input,
             FitInfo* info = nullptr) const;
 
   /// Fits all candidates of an event.
   FittingResult run(std::span<const Hit> hits,
-                    const std::vector<FoundTrack>& found) const;
+                    std::span<const FitInput> inputs) const;
 
   /// Mass of the hypothesis [GeV].
   double mass() const { return m_mass; }
@@ -233,18 +268,27 @@ class KalmanFitter {
   struct Pass;
   struct Node;
   struct Propagation;
+  struct Measurement;
 
+  /// Where hit `hit` of layer `surface` is measured.
+  Measurement measurementOf(const Hit& hit, std::uint32_t surface) const;
   /// Fits in one first direction (+1 along the hit order, -1 against),
   /// with the informed or the fully diffuse start.
-  FitStatus fitDirection(std::span<const Hit> hits, const FoundTrack& found,
-                         const std::vector<std::uint32_t>& surfaces,
+  FitStatus fitDirection(std::span<const Hit> hits, const FitInput& input,
+                         const std::vector<Measurement>& measurements,
                          int direction, bool diffuse, Track& track) const;
-  /// One filter pass over the hits in `order` (indices into found.hits).
-  FitStatus filter(std::span<const Hit> hits, const FoundTrack& found,
-                   const std::vector<std::uint32_t>& surfaces,
+  /// One filter pass over the hits in `order` (indices into input.hits).
+  FitStatus filter(std::span<const Hit> hits, const FitInput& input,
+                   const std::vector<Measurement>& measurements,
                    const std::vector<std::uint32_t>& order, int direction,
                    const HelixState& start, const TrackCovariance& startCov,
                    std::vector<std::uint8_t>& skip, Pass& pass) const;
+  /// Moves the state from the node of `from` to the measurement of `to`:
+  /// through the material and the surfaces in between, or, for a hit of
+  /// the same crossing of the same layer, plane to plane.
+  FitStatus propagateToNode(Propagation& state, int direction,
+                            const Measurement& from,
+                            const Measurement& to) const;
   /// Propagates from the current node towards the surface `target`,
   /// applying the material of every surface crossed.
   FitStatus propagateToSurface(Propagation& state, int direction,
@@ -255,7 +299,7 @@ class KalmanFitter {
   FitStatus propagateToIp(Propagation& state, std::uint32_t fromSurface) const;
   /// Measurement update at a node (iterated where non-linear): the
   /// filtered state and the chi2 increment.
-  FitStatus update(const Hit& hit, const NavigationSurface& layer,
+  FitStatus update(const Hit& hit, const Measurement& measurement,
                    const Vector3& pivot, const TrackVector& x0,
                    const TrackCovariance& c0, TrackVector& x,
                    TrackCovariance& c, double& chi2) const;
@@ -263,11 +307,29 @@ class KalmanFitter {
   /// nearest to its PCA, with the Jacobian of the move.
   FitStatus crossing(const HelixState& state, const NavigationSurface& surface,
                      HelixState& moved, TrackJacobian& jacobian) const;
+  /// The state re-expressed at the crossing of its helix with the
+  /// measurement's plane nearest to its PCA (Newton's method), with the
+  /// Jacobian of the move; ePropagationFailed if there is none within
+  /// reach.
+  FitStatus planeCrossing(const HelixState& state,
+                          const Measurement& measurement, HelixState& moved,
+                          TrackJacobian& jacobian) const;
+  /// The crossing where `measurement` is measured: its plane, or its
+  /// layer without Config::sensorPlanes.
+  FitStatus measurementCrossing(const HelixState& state,
+                                const Measurement& measurement,
+                                HelixState& moved,
+                                TrackJacobian& jacobian) const;
   /// Moves the pivot of `state` to the crossing of its helix with
   /// `surface` nearest to the PCA (no-op if already there or if the helix
   /// does not reach the surface).
   FitStatus moveToCrossing(Propagation& state,
                            const NavigationSurface& surface) const;
+  /// Moves the pivot of `state` to where `measurement` is measured: as
+  /// moveToCrossing without Config::sensorPlanes, else to the plane
+  /// crossing, ePropagationFailed (state unchanged) if there is none.
+  FitStatus moveToMeasurement(Propagation& state,
+                              const Measurement& measurement) const;
   /// Applies the material of surface `surface` crossed at the pivot.
   FitStatus applyMaterial(const NavigationSurface& surface, int direction,
                           Propagation& state) const;
@@ -278,6 +340,10 @@ class KalmanFitter {
   bool m_electron;
   Detector m_detector;
   SurfaceNavigator m_navigator;
+  /// Sensor axes by (layer << 32 | module number), sorted by key; empty
+  /// without a module layout.
+  std::vector<std::pair<std::uint64_t, std::pair<Vector3, Vector3>>>
+      m_sensorAxes;
 };
 
 }  // namespace conftrack

@@ -1,0 +1,445 @@
+// KalmanFitter between nodes: the transport of the state and its
+// covariance along the helix from one measurement to the next (or to the
+// IP), with the material of every surface crossed, and the moves between
+// a layer crossing and a sensor plane.
+
+#include "conftrack/geometry/MaterialInteractions.hpp"
+#include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
+#include "conftrack/reconstruction/fitting/detail/FitterState.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace conftrack {
+
+using namespace detail;
+
+namespace {
+
+/// Largest distance between a hit and the crossing of its plane by the
+/// helix of the previous node's state for the two to be the same crossing
+/// of their common layer [mm]. Overlapping sensors of one layer are
+/// crossed within a few centimetres of each other; a looper's next
+/// crossing of the layer is far away except near its turning radius,
+/// where the two turns are that close anyway.
+constexpr double kSameCrossingDistance = 20.0 * units::mm;
+/// Largest transverse arc between the layer crossing and the crossing of
+/// a hit's plane [mm], as the simulation's search for the sensors of a
+/// layer crossing (ModuleCrossings.cpp): a sensor lies within millimetres
+/// of its layer, so a plane crossed farther away belongs to another
+/// crossing of the layer (another turn of a looper) or to a wrong hit.
+constexpr double kMaxPlaneShift = 200.0 * units::mm;
+/// Newton's method on the plane crossing: iterations and convergence in
+/// the arc length [mm] (far below the resolution; it converges
+/// quadratically).
+constexpr int kMaxNewtonIterations = 20;
+constexpr double kNewtonTolerance = 1e-9 * units::mm;
+
+}  // namespace
+
+namespace detail {
+
+double crossExtended(const Helix& helix, const NavigationSurface& surface,
+                     double sMin, double sMax) {
+  switch (surface.shape) {
+    case SurfaceShape::eCylinder:
+      return helix.nextCylinderCrossing(surface.r, -kInf, kInf, sMin, sMax);
+    case SurfaceShape::eDisk:
+      return helix.nextDiskCrossing(surface.zMin, 0.0, kInf, sMin, sMax);
+    case SurfaceShape::eCone:
+      return helix.nextConeCrossing(surface.zMin, surface.zMax, surface.coneR1,
+                                    surface.coneSlope, sMin, sMax);
+  }
+  return kInf;
+}
+
+}  // namespace detail
+
+FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
+                                      int direction, Propagation& state) const {
+  if (!(surface.thicknessX0 > 0.0) ||
+      (!m_config.multipleScattering && !m_config.energyLoss)) {
+    return FitStatus::eSuccess;
+  }
+  const HelixState helix{state.pivot, state.params};
+  // Path length at the actual crossing angle, with the simulation's caps.
+  const double xOverX0 =
+      surface.xOverX0(helix.pca(), helix.direction(), m_config.minCosIncidence);
+  const double omega = state.params[eOmega];
+  const double tanLambda = state.params[eTanLambda];
+  const double secLambda2 = 1.0 + tanLambda * tanLambda;
+  const double p = constants::kPtPerTeslaMm * std::abs(m_bz) /
+                   std::max(std::abs(omega), kMinAbsOmega) *
+                   std::sqrt(secLambda2);
+  const double m = m_mass;
+  // Momenta before and after the layer along the motion.
+  double pBefore = p;
+  double pAfter = p;
+  if (m_config.energyLoss) {
+    if (direction > 0) {
+      const double energy =
+          std::hypot(p, m) - betheMeanEnergyLoss(p, m, 1.0, xOverX0);
+      if (!(energy > m)) {
+        return FitStatus::eParticleStopped;
+      }
+      pAfter = std::sqrt((energy - m) * (energy + m));
+    } else {
+      // E_before - loss(p_before) = E_after: a fixed-point iteration (the
+      // loss changes by < 1e-3 relative between iterations).
+      const double energyAfter = std::hypot(p, m);
+      for (int i = 0; i < 3; ++i) {
+        const double energy =
+            energyAfter + betheMeanEnergyLoss(pBefore, m, 1.0, xOverX0);
+        pBefore = std::sqrt((energy - m) * (energy + m));
+      }
+    }
+    if (pAfter < m_config.minMomentum) {
+      return FitStatus::eParticleStopped;
+    }
+    // Omega ~ 1/p at fixed lambda. d(Omega')/d(Omega) = ratio^2 beta/beta'
+    // (the p dependence of the loss itself neglected).
+    const double pNew = direction > 0 ? pAfter : pBefore;
+    const double ratio = p / pNew;
+    const double derivative =
+        ratio * ratio * (p / std::hypot(p, m)) / (pNew / std::hypot(pNew, m));
+    state.params[eOmega] = omega * ratio;
+    state.cov.row(eOmega) *= derivative;
+    state.cov.col(eOmega) *= derivative;
+    state.jacobian.row(eOmega) *= derivative;
+  }
+  if (m_config.multipleScattering) {
+    // Scattering with the momentum before the loss, as the simulation.
+    const double beta = pBefore / std::hypot(pBefore, m);
+    const double theta0 =
+        scatteringTheta0(pBefore, beta, 1.0, xOverX0, m_electron);
+    const double var = theta0 * theta0;
+    // Two projected angles: d phi = theta1 / cos(lambda), d lambda =
+    // theta2; d tanLambda = sec^2 d lambda and, at fixed p, d Omega =
+    // Omega tanLambda d lambda.
+    state.cov(ePhi0, ePhi0) += var * secLambda2;
+    TrackVector g = TrackVector::Zero();
+    g[eOmega] = state.params[eOmega] * tanLambda;
+    g[eTanLambda] = secLambda2;
+    state.cov += var * g * g.transpose();
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::crossing(const HelixState& state,
+                                 const NavigationSurface& surface,
+                                 HelixState& moved,
+                                 TrackJacobian& jacobian) const {
+  // The crossing of the (extended) surface nearest to the PCA, searched
+  // along and against the motion within kOwnCrossingTolerance. A PCA on
+  // the surface stays (the searches exclude s = 0 and would find the next
+  // crossing instead).
+  moved = state;
+  jacobian.setIdentity();
+  const Vector3 pca = state.pca();
+  const double offSurface = surface.shape == SurfaceShape::eDisk
+                                ? pca.z() - surface.zMin
+                                : pca.head<2>().norm() - surface.r;
+  if (std::abs(offSurface) <= kOnSurface) {
+    return FitStatus::eSuccess;
+  }
+  const Helix forward = makeHelix(state, m_bz, +1);
+  const double ahead =
+      crossExtended(forward, surface, 0.0, kOwnCrossingTolerance);
+  const double behind = crossExtended(makeHelix(state, m_bz, -1), surface, 0.0,
+                                      kOwnCrossingTolerance);
+  double s = 0.0;
+  if (ahead <= behind && ahead < kInf) {
+    s = ahead;
+  } else if (behind < kInf) {
+    s = -behind;
+  } else {
+    return FitStatus::ePropagationFailed;
+  }
+  moved.pivot = forward.position(s);
+  const double sMoved = movePivot(state.params, state.pivot, moved.pivot, s,
+                                  moved.params, &jacobian);
+  if (!std::isfinite(sMoved) || !moved.params.allFinite()) {
+    return FitStatus::eNumericalProblem;
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::moveToCrossing(Propagation& state,
+                                       const NavigationSurface& surface) const {
+  HelixState moved;
+  TrackJacobian jacobian;
+  const FitStatus status =
+      crossing({state.pivot, state.params}, surface, moved, jacobian);
+  if (status == FitStatus::ePropagationFailed) {
+    // The updated helix no longer reaches the surface (a grazing
+    // crossing): stay at the PCA, which is as close as it gets.
+    return FitStatus::eSuccess;
+  }
+  if (status != FitStatus::eSuccess) {
+    return status;
+  }
+  if (moved.pivot != state.pivot) {
+    state.pivot = moved.pivot;
+    state.params = moved.params;
+    state.cov = jacobian * state.cov * jacobian.transpose();
+    state.jacobian = jacobian * state.jacobian;
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
+                                           std::uint32_t fromSurface,
+                                           std::uint32_t target) const {
+  const auto& surfaces = m_navigator.surfaces();
+  FitStatus status = moveToCrossing(state, surfaces[fromSurface]);
+  if (status != FitStatus::eSuccess) {
+    return status;
+  }
+  if (direction > 0) {
+    // Along the motion the material of the node comes after its hit.
+    status = applyMaterial(surfaces[fromSurface], +1, state);
+    if (status != FitStatus::eSuccess) {
+      return status;
+    }
+  }
+  Helix walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+  const NavigationSurface& goal = surfaces[target];
+  for (unsigned n = 0; n < m_config.maxCrossingsPerStep; ++n) {
+    const double sMax = std::min(walk.period(), kMaxArc);
+    const double sGoal = crossExtended(walk, goal, kMinStep, sMax);
+    if (!(sGoal < kInf)) {
+      return FitStatus::ePropagationFailed;
+    }
+    const SurfaceCrossing next =
+        m_navigator.nextCrossing(walk, kMinStep, sGoal);
+    const bool arrive = !next.found() || next.surface == target;
+    const double s = arrive ? sGoal : next.s;
+    const Vector3 position = walk.position(s);
+    TrackVector moved;
+    TrackJacobian jacobian;
+    const double sMoved = movePivot(state.params, state.pivot, position,
+                                    direction * s, moved, &jacobian);
+    if (!std::isfinite(sMoved) || !moved.allFinite()) {
+      return FitStatus::eNumericalProblem;
+    }
+    state.params = moved;
+    state.cov = jacobian * state.cov * jacobian.transpose();
+    state.jacobian = jacobian * state.jacobian;
+    state.pivot = position;
+    if (arrive) {
+      // Against the motion the node's material is crossed before its hit;
+      // node states stay on the side the particle comes from.
+      return direction < 0 ? applyMaterial(goal, -1, state)
+                           : FitStatus::eSuccess;
+    }
+    status = applyMaterial(surfaces[next.surface], direction, state);
+    if (status != FitStatus::eSuccess) {
+      return status;
+    }
+    walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+  }
+  return FitStatus::ePropagationFailed;
+}
+
+FitStatus KalmanFitter::propagateToIp(Propagation& state,
+                                      std::uint32_t fromSurface) const {
+  const Vector3 origin = Vector3::Zero();
+  const auto& surfaces = m_navigator.surfaces();
+  TrackVector atOrigin;
+  // Transverse arc from the current PCA to the PCA to the z axis, within
+  // half a turn (physics.md 3).
+  double s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+  if (!std::isfinite(s)) {
+    return FitStatus::eNumericalProblem;
+  }
+  if (m_config.materialToIp && std::abs(s) > kMinStep) {
+    FitStatus status = moveToCrossing(state, surfaces[fromSurface]);
+    if (status != FitStatus::eSuccess) {
+      return status;
+    }
+    s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+    const int direction = s < 0.0 ? -1 : 1;
+    if (direction > 0) {
+      // PCA after the innermost hit (not a prompt track): its material
+      // comes first.
+      status = applyMaterial(surfaces[fromSurface], +1, state);
+      if (status != FitStatus::eSuccess) {
+        return status;
+      }
+      s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+    }
+    Helix walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+    for (unsigned n = 0; n < m_config.maxCrossingsPerStep; ++n) {
+      const double remaining = std::abs(s);
+      if (!(remaining > kMinStep)) {
+        break;
+      }
+      const SurfaceCrossing next =
+          m_navigator.nextCrossing(walk, kMinStep, remaining);
+      if (!next.found()) {
+        break;
+      }
+      const Vector3 position = walk.position(next.s);
+      TrackVector moved;
+      TrackJacobian jacobian;
+      const double sMoved = movePivot(state.params, state.pivot, position,
+                                      direction * next.s, moved, &jacobian);
+      if (!std::isfinite(sMoved) || !moved.allFinite()) {
+        return FitStatus::eNumericalProblem;
+      }
+      state.params = moved;
+      state.cov = jacobian * state.cov * jacobian.transpose();
+      state.pivot = position;
+      status = applyMaterial(surfaces[next.surface], direction, state);
+      if (status != FitStatus::eSuccess) {
+        return status;
+      }
+      s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+      if (!(s * direction > 0.0)) {
+        break;
+      }
+      walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+    }
+  }
+  TrackJacobian jacobian;
+  s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin, &jacobian);
+  if (!std::isfinite(s) || !atOrigin.allFinite()) {
+    return FitStatus::eNumericalProblem;
+  }
+  state.params = atOrigin;
+  state.cov = jacobian * state.cov * jacobian.transpose();
+  state.pivot = origin;
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::planeCrossing(const HelixState& state,
+                                      const Measurement& measurement,
+                                      HelixState& moved,
+                                      TrackJacobian& jacobian) const {
+  moved = state;
+  jacobian.setIdentity();
+  const Vector3& g = measurement.normal;
+  const Helix helix = makeHelix(state, m_bz, +1);
+  // Newton's method on f(s) = g . (P(s) - origin) from the PCA (s = 0),
+  // which is at or near the layer crossing: it converges to the plane
+  // crossing nearest to it. s < 0 is behind the PCA (the Helix formulae
+  // hold for both signs).
+  double s = 0.0;
+  bool converged = false;
+  for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
+    Vector3 p;
+    Vector3 q;
+    helix.positionAndMomentum(s, p, q);
+    const double f = g.dot(p - measurement.origin);
+    if (iteration == 0 && std::abs(f) <= kOnSurface) {
+      return FitStatus::eSuccess;  // already on the plane
+    }
+    const double slope = g.dot(q) / helix.pt();  // df/ds
+    if (!(std::abs(slope) > 1e-12)) {
+      return FitStatus::ePropagationFailed;  // along the plane
+    }
+    const double step = -f / slope;
+    s += step;
+    if (!(std::abs(s) <= kMaxPlaneShift)) {
+      return FitStatus::ePropagationFailed;
+    }
+    if (std::abs(step) <= kNewtonTolerance) {
+      converged = true;
+      break;
+    }
+  }
+  if (!converged) {
+    return FitStatus::ePropagationFailed;
+  }
+  if (s == 0.0) {
+    return FitStatus::eSuccess;
+  }
+  moved.pivot = helix.position(s);
+  const double sMoved = movePivot(state.params, state.pivot, moved.pivot, s,
+                                  moved.params, &jacobian);
+  if (!std::isfinite(sMoved) || !moved.params.allFinite()) {
+    return FitStatus::eNumericalProblem;
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::measurementCrossing(const HelixState& state,
+                                            const Measurement& measurement,
+                                            HelixState& moved,
+                                            TrackJacobian& jacobian) const {
+  if (m_config.sensorPlanes) {
+    return planeCrossing(state, measurement, moved, jacobian);
+  }
+  return crossing(state, m_navigator.surfaces()[measurement.surface], moved,
+                  jacobian);
+}
+
+namespace {
+
+/// Moves `state` to `moved` (pivot, parameters, covariance and the
+/// accumulated Jacobian).
+void applyMove(const HelixState& moved, const TrackJacobian& jacobian,
+               Vector3& pivot, TrackVector& params, TrackCovariance& cov,
+               TrackJacobian& accumulated) {
+  pivot = moved.pivot;
+  params = moved.params;
+  cov = jacobian * cov * jacobian.transpose();
+  accumulated = jacobian * accumulated;
+}
+
+}  // namespace
+
+FitStatus KalmanFitter::moveToMeasurement(
+    Propagation& state, const Measurement& measurement) const {
+  if (!m_config.sensorPlanes) {
+    return moveToCrossing(state, m_navigator.surfaces()[measurement.surface]);
+  }
+  HelixState moved;
+  TrackJacobian jacobian;
+  const FitStatus status =
+      planeCrossing({state.pivot, state.params}, measurement, moved, jacobian);
+  if (status != FitStatus::eSuccess) {
+    // Unlike a layer, a plane through a wrong hit (another phi) may not be
+    // crossed near the layer crossing at all: a residual taken off the
+    // plane would be meaningless, so the hit is unreachable.
+    return status;
+  }
+  if (moved.pivot != state.pivot) {
+    applyMove(moved, jacobian, state.pivot, state.params, state.cov,
+              state.jacobian);
+  }
+  return FitStatus::eSuccess;
+}
+
+FitStatus KalmanFitter::propagateToNode(Propagation& state, int direction,
+                                        const Measurement& from,
+                                        const Measurement& to) const {
+  if (m_config.sensorPlanes && to.surface == from.surface) {
+    // Another hit of the same crossing of the layer (overlapping sensors):
+    // plane to plane, without the layer's material, which is applied once
+    // per crossing when leaving it.
+    HelixState moved;
+    TrackJacobian jacobian;
+    const FitStatus status =
+        planeCrossing({state.pivot, state.params}, to, moved, jacobian);
+    if (status == FitStatus::eNumericalProblem) {
+      return status;
+    }
+    if (status == FitStatus::eSuccess &&
+        (moved.pca() - to.origin).norm() <= kSameCrossingDistance) {
+      applyMove(moved, jacobian, state.pivot, state.params, state.cov,
+                state.jacobian);
+      return FitStatus::eSuccess;
+    }
+    // Else a later crossing of the same layer (a looper): navigate.
+  }
+  const FitStatus status =
+      propagateToSurface(state, direction, from.surface, to.surface);
+  if (status != FitStatus::eSuccess) {
+    return status;
+  }
+  return m_config.sensorPlanes ? moveToMeasurement(state, to)
+                               : FitStatus::eSuccess;
+}
+
+}  // namespace conftrack
