@@ -171,13 +171,19 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
   if (dz > m_step.slopeZRange * dxy) {
     return false;
   }
-  if (m_step.maxSeedZ0 < std::numeric_limits<double>::infinity()) {
+  const bool fixedZ0 =
+      m_step.maxSeedZ0 < std::numeric_limits<double>::infinity();
+  if (fixedZ0 || !m_zWindows.empty()) {
     // z of the cell's (R, z) line at R = 0: |z_s - dz/dR R_s| <= cut,
     // multiplied out (no division for equal radii).
     double dr = m_hits.radius[n] - m_hits.radius[seed];
     double zr = m_hits.z[seed] * dr -
                 (m_hits.z[n] - m_hits.z[seed]) * m_hits.radius[seed];
-    if (std::abs(zr) > m_step.maxSeedZ0 * std::abs(dr)) {
+    if (fixedZ0 && std::abs(zr) > m_step.maxSeedZ0 * std::abs(dr)) {
+      return false;
+    }
+    // Within the step's window of a vertex region (VertexZPrepass).
+    if (!m_zWindows.empty() && (dr == 0.0 || !m_zWindows.contains(zr / dr))) {
       return false;
     }
   }
@@ -195,16 +201,28 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
 }
 
 bool SeedAutomaton::seedRzCone(ConfIndex seed, HitPool::RzCone& cone) const {
-  if (!(m_step.maxSeedZ0 < std::numeric_limits<double>::infinity())) {
+  const bool fixedZ0 =
+      m_step.maxSeedZ0 < std::numeric_limits<double>::infinity();
+  if (!fixedZ0 && m_zWindows.empty()) {
     return false;
+  }
+  // The seed cells' lines meet R = 0 within [lo, hi]: the fixed cut and
+  // the hull of the vertex windows.
+  double lo =
+      fixedZ0 ? -m_step.maxSeedZ0 : -std::numeric_limits<double>::infinity();
+  double hi =
+      fixedZ0 ? m_step.maxSeedZ0 : std::numeric_limits<double>::infinity();
+  if (!m_zWindows.empty()) {
+    lo = std::max(lo, m_zWindows.lowest());
+    hi = std::max(lo, std::min(hi, m_zWindows.highest()));
   }
   const double zs = m_hits.z[seed];
   const double rs = m_hits.radius[seed];
   const double sign = m_insideOut ? 1.0 : -1.0;
-  double az = zs + m_step.maxSeedZ0;
+  double az = zs - lo;
   double ar = rs;
   double an = std::hypot(az, ar);
-  double bz = zs - m_step.maxSeedZ0;
+  double bz = zs - hi;
   double br = rs;
   double bn = std::hypot(bz, br);
   double cz = az / an + bz / bn;

@@ -5,6 +5,7 @@
 /// 13) and its TOML reader (format: README "Chain files").
 
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/reconstruction/finding/VertexZPrepass.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -82,6 +83,17 @@ struct FindingStep {
   /// seed pairs with the hits of the next layer at every z that the slope
   /// cut admits.
   double maxSeedZ0 = std::numeric_limits<double>::infinity();
+  /// Half-width of the z0 window about the vertex regions of the event
+  /// [mm] (infinity: no window, the default). When finite, the z of a seed
+  /// cell's (R, z) line at R = 0 must lie within this of a region found by
+  /// the chain's vertex pre-pass (FinderConfig::vertexPrepass, required),
+  /// in addition to maxSeedZ0; in an event where the pre-pass finds no
+  /// region only maxSeedZ0 applies. The window covers the extrapolation
+  /// error of the seed cells (larger for cells far from the beam line) and
+  /// the vertices the pre-pass misses next to those it finds, so the
+  /// prompt steps follow the luminous region of each event instead of a
+  /// beam spot fixed in the chain (algorithm.md 3.14).
+  double vertexWindow = std::numeric_limits<double>::infinity();
   /// Maximum 3-D distance between the two hits of a seed cell [mm]
   /// (infinity: no cut, as upstream). In the outer tracker the conformal
   /// disc reaches across the whole detector, so an outside-in seed pairs
@@ -202,6 +214,10 @@ struct FinderConfig {
   /// track's momentum estimate) in its chi2 increments. A conftrack
   /// addition: upstream's conformal chi2 knows only the hit resolutions.
   bool scatteringAllowance = true;
+  /// The vertex-z pre-pass, run once per event before the first step
+  /// (unset: not run, the default). Its vertex regions are the seeds' z
+  /// windows of the steps with a finite FindingStep::vertexWindow.
+  std::optional<VertexZPrepass::Config> vertexPrepass;
 };
 
 /// A problem of a chain, named by the chain-file key it comes from, so that

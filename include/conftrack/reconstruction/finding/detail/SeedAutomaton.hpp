@@ -38,7 +38,10 @@ class SeedAutomaton {
         m_stats(stats),
         m_insideOut(step.direction == SearchDirection::eInsideOut),
         m_cosCellAngle(std::cos(step.maxCellAngle)),
-        m_cosCellAngleRZ(std::cos(step.maxCellAngleRZ)) {}
+        m_cosCellAngleRZ(std::cos(step.maxCellAngleRZ)),
+        m_zWindows(std::isfinite(step.vertexWindow)
+                       ? ZWindows(state.vertexRegions, step.vertexWindow)
+                       : ZWindows()) {}
 
   /// Runs the automaton for one seed; appends passing candidates.
   void run(ConfIndex seed, std::vector<TrackCandidate>& candidates);
@@ -118,6 +121,8 @@ class SeedAutomaton {
   bool m_insideOut;
   double m_cosCellAngle;
   double m_cosCellAngleRZ;
+  /// The seeds' z0 windows about the event's vertex regions (empty: none).
+  ZWindows m_zWindows;
 
   // Step-wide cell graph (children computed once per cell).
   std::vector<Cell> m_cells;
