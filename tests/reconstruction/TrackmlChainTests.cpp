@@ -90,8 +90,8 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(
       c.vertexPrepass->collections,
       std::vector<std::uint16_t>{*detector.findSubdetector("PixelBarrel")});
-  EXPECT_DOUBLE_EQ(c.steps[0].vertexWindow, 2.0);
-  EXPECT_DOUBLE_EQ(c.steps[2].vertexWindow, 8.0);
+  EXPECT_DOUBLE_EQ(c.steps[0].vertexWindow, 1.0);
+  EXPECT_DOUBLE_EQ(c.steps[2].vertexWindow, 4.0);
   for (const FindingStep& s : c.steps) {
     EXPECT_EQ(s.maxSeedZ0, std::numeric_limits<double>::infinity());
   }

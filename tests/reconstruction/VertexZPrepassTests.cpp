@@ -37,6 +37,12 @@ TEST(VertexZPrepass, ZWindowsMergeAndContain) {
   for (double z : {-7.0, -3.9, 0.0, 8.9, 21.1}) {
     EXPECT_FALSE(w.contains(z)) << z;
   }
+  // Within a margin of an interval.
+  EXPECT_TRUE(w.near(-3.5, 0.5));
+  EXPECT_FALSE(w.near(-3.4, 0.5));
+  EXPECT_TRUE(w.near(0.0, 4.0));
+  EXPECT_TRUE(w.near(25.0, 4.0));
+  EXPECT_FALSE(w.near(25.1, 4.0));
   EXPECT_TRUE(ZWindows({}, 5.0).empty());
   EXPECT_FALSE(ZWindows({}, 5.0).contains(0.0));
 }

@@ -182,9 +182,19 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
     if (fixedZ0 && std::abs(zr) > m_step.maxSeedZ0 * std::abs(dr)) {
       return false;
     }
-    // Within the step's window of a vertex region (VertexZPrepass).
-    if (!m_zWindows.empty() && (dr == 0.0 || !m_zWindows.contains(zr / dr))) {
-      return false;
+    // Within the step's window of a vertex region (VertexZPrepass), grown
+    // with the cell's lever arm: the error of z0 is that of the cell's
+    // slope times the distance of its inner hit from the beam line.
+    if (!m_zWindows.empty()) {
+      if (dr == 0.0) {
+        return false;
+      }
+      const double inner = std::min(m_hits.radius[seed], m_hits.radius[n]);
+      const double lever =
+          std::clamp(inner / std::abs(dr), 1.0, kMaxVertexLever);
+      if (!m_zWindows.near(zr / dr, lever * m_step.vertexWindow)) {
+        return false;
+      }
     }
   }
   const double du = m_hits.u[n] - m_hits.u[seed];
@@ -213,8 +223,9 @@ bool SeedAutomaton::seedRzCone(ConfIndex seed, HitPool::RzCone& cone) const {
   double hi =
       fixedZ0 ? m_step.maxSeedZ0 : std::numeric_limits<double>::infinity();
   if (!m_zWindows.empty()) {
-    lo = std::max(lo, m_zWindows.lowest());
-    hi = std::max(lo, std::min(hi, m_zWindows.highest()));
+    const double grow = kMaxVertexLever * m_step.vertexWindow;
+    lo = std::max(lo, m_zWindows.lowest() - grow);
+    hi = std::max(lo, std::min(hi, m_zWindows.highest() + grow));
   }
   const double zs = m_hits.z[seed];
   const double rs = m_hits.radius[seed];

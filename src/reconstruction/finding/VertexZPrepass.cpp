@@ -33,11 +33,11 @@ ZWindows::ZWindows(const std::vector<std::pair<double, double>>& intervals,
   }
 }
 
-bool ZWindows::contains(double z) const {
-  // The first interval ending at or after z.
-  auto it = std::lower_bound(m_hi.begin(), m_hi.end(), z);
+bool ZWindows::near(double z, double margin) const {
+  // The first interval ending at or after z - margin.
+  auto it = std::lower_bound(m_hi.begin(), m_hi.end(), z - margin);
   return it != m_hi.end() &&
-         m_lo[static_cast<std::size_t>(it - m_hi.begin())] <= z;
+         m_lo[static_cast<std::size_t>(it - m_hi.begin())] <= z + margin;
 }
 
 double ZWindows::length() const {

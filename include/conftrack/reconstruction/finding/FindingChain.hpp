@@ -86,13 +86,13 @@ struct FindingStep {
   /// Half-width of the z0 window about the vertex regions of the event
   /// [mm] (infinity: no window, the default). When finite, the z of a seed
   /// cell's (R, z) line at R = 0 must lie within this of a region found by
-  /// the chain's vertex pre-pass (FinderConfig::vertexPrepass, required),
-  /// in addition to maxSeedZ0; in an event where the pre-pass finds no
-  /// region only maxSeedZ0 applies. The window covers the extrapolation
-  /// error of the seed cells (larger for cells far from the beam line) and
-  /// the vertices the pre-pass misses next to those it finds, so the
-  /// prompt steps follow the luminous region of each event instead of a
-  /// beam spot fixed in the chain (algorithm.md 3.14).
+  /// the chain's vertex pre-pass (FinderConfig::vertexPrepass, required)
+  /// times the cell's lever arm R_inner / |dR| where that exceeds 1 (at
+  /// most 10 times: the error of z0 is the error of the cell's slope times
+  /// R_inner), in addition to maxSeedZ0; in an event where the pre-pass
+  /// finds no region only maxSeedZ0 applies. So the prompt steps follow
+  /// the luminous region of each event instead of a beam spot fixed in the
+  /// chain (algorithm.md 3.14).
   double vertexWindow = std::numeric_limits<double>::infinity();
   /// Maximum 3-D distance between the two hits of a seed cell [mm]
   /// (infinity: no cut, as upstream). In the outer tracker the conformal

@@ -30,7 +30,9 @@ class ZWindows {
   bool empty() const { return m_lo.empty(); }
   std::size_t size() const { return m_lo.size(); }
   /// True if z lies in one of the intervals (closed).
-  bool contains(double z) const;
+  bool contains(double z) const { return near(z, 0.0); }
+  /// True if z lies within `margin` (>= 0) of one of the intervals.
+  bool near(double z, double margin) const;
   /// Lowest and highest z covered (empty(): undefined).
   double lowest() const { return m_lo.front(); }
   double highest() const { return m_hi.back(); }
