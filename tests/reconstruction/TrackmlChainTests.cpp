@@ -383,7 +383,7 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001WithHlLhcLength) {
   // The same event with its interactions moved to sigma_z = 50 mm
   // (--luminous-region hllhc): the seeds' z windows follow the vertices
-  // found by the vertex-z pre-pass (docs/algorithm.md 3.14), so the score
+  // found by the vertex-z pre-pass (docs/algorithm.md 3.16), so the score
   // stays near that of the Kaggle length (measured 0.5510 against 0.5603;
   // 0.28 with the fixed window of +-20 mm about 0). Guarded at 0.03 below
   // the Kaggle length's threshold.

@@ -1,4 +1,4 @@
-// The vertex-z pre-pass (VertexZPrepass.hpp, algorithm.md 3.14): triplets
+// The vertex-z pre-pass (VertexZPrepass.hpp, algorithm.md 3.16): triplets
 // on the three innermost barrel layers, a z0 histogram with the background
 // of phi-rotated triplets subtracted, active bins and their runs.
 

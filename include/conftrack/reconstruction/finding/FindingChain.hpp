@@ -92,7 +92,7 @@ struct FindingStep {
   /// R_inner), in addition to maxSeedZ0; in an event where the pre-pass
   /// finds no region only maxSeedZ0 applies. So the prompt steps follow
   /// the luminous region of each event instead of a beam spot fixed in the
-  /// chain (algorithm.md 3.14).
+  /// chain (algorithm.md 3.16).
   double vertexWindow = std::numeric_limits<double>::infinity();
   /// Maximum 3-D distance between the two hits of a seed cell [mm]
   /// (infinity: no cut, as upstream). In the outer tracker the conformal

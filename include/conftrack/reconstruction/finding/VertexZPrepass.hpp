@@ -1,7 +1,7 @@
 #pragma once
 
 /// @file VertexZPrepass.hpp
-/// Fast vertex-z pre-pass of the conformal finder (algorithm.md 3.14): finds
+/// Fast vertex-z pre-pass of the conformal finder (algorithm.md 3.16): finds
 /// the z of the interaction vertices of an event from triplets of hits on
 /// the three innermost barrel layers, before any track is built, so that
 /// prompt steps seed around the vertices (FindingStep::vertexWindow) instead
