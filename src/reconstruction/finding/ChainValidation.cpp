@@ -131,6 +131,7 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
                Range{0.0, 3.15, false, true}},
               // Infinity: no cut.
               {"max_seed_z0_mm", s.maxSeedZ0, mm, Range::positive()},
+              {"vertex_window_mm", s.vertexWindow, mm, Range::positive()},
               {"max_seed_length_mm", s.maxSeedLength, mm, Range::positive()},
               {"max_seed_cells", static_cast<double>(s.maxSeedCells), one,
                Range::closed(0, 1e6)},
@@ -204,6 +205,12 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
           key)) {
     return ChainProblem{std::nullopt, "finder." + key, *what};
   }
+  if (c.vertexPrepass) {
+    if (auto p = VertexZPrepass::findProblem(*c.vertexPrepass, detector)) {
+      return ChainProblem{std::nullopt, "vertex_prepass." + p->first,
+                          p->second};
+    }
+  }
   if (c.steps.empty()) {
     return ChainProblem{std::nullopt, "step",
                         "missing: a chain needs at least one [[step]]"};
@@ -211,6 +218,11 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
   for (std::size_t i = 0; i < c.steps.size(); ++i) {
     if (auto p = findStepProblem(c.steps[i], i, detector)) {
       return p;
+    }
+    if (std::isfinite(c.steps[i].vertexWindow) && !c.vertexPrepass) {
+      return ChainProblem{i, "vertex_window_mm",
+                          "needs the chain's [vertex_prepass] table (the "
+                          "vertices it finds)"};
     }
     for (std::size_t j = 0; j < i; ++j) {
       if (c.steps[j].name == c.steps[i].name) {

@@ -52,6 +52,9 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
   detail::FinderState state(conformal, *m_detector, chain, bz);
 
   FindingResult result;
+  if (chain.vertexPrepass) {
+    result.steps.push_back(detail::findVertexRegions(state));
+  }
   std::optional<HitPool> pool;
   for (std::size_t i = 0; i < chain.steps.size(); ++i) {
     const FindingStep& step = chain.steps[i];

@@ -99,6 +99,7 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
   s.highPtCut = quantity(t, "high_pt_cut_GeV", GeV);
   s.maxSeedDeltaPhi = quantity(t, "max_seed_dphi", rad, s.maxSeedDeltaPhi);
   s.maxSeedZ0 = quantity(t, "max_seed_z0_mm", mm, s.maxSeedZ0);
+  s.vertexWindow = quantity(t, "vertex_window_mm", mm, s.vertexWindow);
   s.maxSeedLength = quantity(t, "max_seed_length_mm", mm, s.maxSeedLength);
   s.maxSeedCells = count(t, "max_seed_cells", s.maxSeedCells);
   s.maxPaths = count(t, "max_paths", s.maxPaths);
@@ -124,6 +125,26 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
   s.fitBackward = fit == "backward";
   t.rejectUnknownKeys();
   return s;
+}
+
+/// The [vertex_prepass] table; the values' sense is checked by
+/// findChainProblem.
+VertexZPrepass::Config readVertexPrepass(const ConfigTable& t,
+                                         const Detector& detector) {
+  using units::mm;
+  using units::rad;
+  VertexZPrepass::Config c;
+  c.collections = subdetectors(t, "collections", detector);
+  c.maxAbsZ = quantity(t, "max_z_mm", mm, c.maxAbsZ);
+  c.binWidth = quantity(t, "bin_width_mm", mm, c.binWidth);
+  c.smoothBins = count(t, "smooth_bins", c.smoothBins);
+  c.maxDeltaPhi = quantity(t, "max_dphi", rad, c.maxDeltaPhi);
+  c.confirmPhi = quantity(t, "confirm_dphi", rad, c.confirmPhi);
+  c.confirmZ = quantity(t, "confirm_dz_mm", mm, c.confirmZ);
+  c.minExcess = quantity(t, "min_excess", 1.0, c.minExcess);
+  c.minSignificance = quantity(t, "min_significance", 1.0, c.minSignificance);
+  t.rejectUnknownKeys();
+  return c;
 }
 
 }  // namespace
@@ -172,6 +193,10 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         quantity(f, "overlap_max_gap_mm", units::mm, cfg.overlapMaxGap);
     f.rejectUnknownKeys();
   }
+  std::optional<ConfigTable> prepass = root.findTable("vertex_prepass");
+  if (prepass) {
+    cfg.vertexPrepass = readVertexPrepass(*prepass, detector);
+  }
   std::vector<ConfigTable> steps = root.getTableArray("step");
   for (const ConfigTable& step : steps) {
     cfg.steps.push_back(readStep(step, detector));
@@ -185,6 +210,10 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
     constexpr std::string_view kFinder = "finder.";
     if (p->key.starts_with(kFinder) && finder) {
       finder->fail(p->key.substr(kFinder.size()), p->what);
+    }
+    constexpr std::string_view kPrepass = "vertex_prepass.";
+    if (p->key.starts_with(kPrepass) && prepass) {
+      prepass->fail(p->key.substr(kPrepass.size()), p->what);
     }
     root.fail(p->key, p->what);
   }

@@ -171,14 +171,30 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
   if (dz > m_step.slopeZRange * dxy) {
     return false;
   }
-  if (m_step.maxSeedZ0 < std::numeric_limits<double>::infinity()) {
+  const bool fixedZ0 =
+      m_step.maxSeedZ0 < std::numeric_limits<double>::infinity();
+  if (fixedZ0 || !m_zWindows.empty()) {
     // z of the cell's (R, z) line at R = 0: |z_s - dz/dR R_s| <= cut,
     // multiplied out (no division for equal radii).
     double dr = m_hits.radius[n] - m_hits.radius[seed];
     double zr = m_hits.z[seed] * dr -
                 (m_hits.z[n] - m_hits.z[seed]) * m_hits.radius[seed];
-    if (std::abs(zr) > m_step.maxSeedZ0 * std::abs(dr)) {
+    if (fixedZ0 && std::abs(zr) > m_step.maxSeedZ0 * std::abs(dr)) {
       return false;
+    }
+    // Within the step's window of a vertex region (VertexZPrepass), grown
+    // with the cell's lever arm: the error of z0 is that of the cell's
+    // slope times the distance of its inner hit from the beam line.
+    if (!m_zWindows.empty()) {
+      if (dr == 0.0) {
+        return false;
+      }
+      const double inner = std::min(m_hits.radius[seed], m_hits.radius[n]);
+      const double lever =
+          std::clamp(inner / std::abs(dr), 1.0, kMaxVertexLever);
+      if (!m_zWindows.near(zr / dr, lever * m_step.vertexWindow)) {
+        return false;
+      }
     }
   }
   const double du = m_hits.u[n] - m_hits.u[seed];
@@ -195,16 +211,29 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
 }
 
 bool SeedAutomaton::seedRzCone(ConfIndex seed, HitPool::RzCone& cone) const {
-  if (!(m_step.maxSeedZ0 < std::numeric_limits<double>::infinity())) {
+  const bool fixedZ0 =
+      m_step.maxSeedZ0 < std::numeric_limits<double>::infinity();
+  if (!fixedZ0 && m_zWindows.empty()) {
     return false;
+  }
+  // The seed cells' lines meet R = 0 within [lo, hi]: the fixed cut and
+  // the hull of the vertex windows.
+  double lo =
+      fixedZ0 ? -m_step.maxSeedZ0 : -std::numeric_limits<double>::infinity();
+  double hi =
+      fixedZ0 ? m_step.maxSeedZ0 : std::numeric_limits<double>::infinity();
+  if (!m_zWindows.empty()) {
+    const double grow = kMaxVertexLever * m_step.vertexWindow;
+    lo = std::max(lo, m_zWindows.lowest() - grow);
+    hi = std::max(lo, std::min(hi, m_zWindows.highest() + grow));
   }
   const double zs = m_hits.z[seed];
   const double rs = m_hits.radius[seed];
   const double sign = m_insideOut ? 1.0 : -1.0;
-  double az = zs + m_step.maxSeedZ0;
+  double az = zs - lo;
   double ar = rs;
   double an = std::hypot(az, ar);
-  double bz = zs - m_step.maxSeedZ0;
+  double bz = zs - hi;
   double br = rs;
   double bn = std::hypot(bz, br);
   double cz = az / an + bz / bn;

@@ -6,6 +6,7 @@
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/reconstruction/finding/VertexZPrepass.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -83,6 +84,17 @@ struct FindingStep {
   /// seed pairs with the hits of the next layer at every z that the slope
   /// cut admits.
   double maxSeedZ0 = std::numeric_limits<double>::infinity();
+  /// Half-width of the z0 window about the vertex regions of the event
+  /// [mm] (infinity: no window, the default). When finite, the z of a seed
+  /// cell's (R, z) line at R = 0 must lie within this of a region found by
+  /// the chain's vertex pre-pass (FinderConfig::vertexPrepass, required)
+  /// times the cell's lever arm R_inner / |dR| where that exceeds 1 (at
+  /// most 10 times: the error of z0 is the error of the cell's slope times
+  /// R_inner), in addition to maxSeedZ0; in an event where the pre-pass
+  /// finds no region only maxSeedZ0 applies. So the prompt steps follow
+  /// the luminous region of each event instead of a beam spot fixed in the
+  /// chain (algorithm.md 3.16).
+  double vertexWindow = std::numeric_limits<double>::infinity();
   /// Maximum 3-D distance between the two hits of a seed cell [mm]
   /// (infinity: no cut, as upstream). In the outer tracker the conformal
   /// disc reaches across the whole detector, so an outside-in seed pairs
@@ -217,6 +229,10 @@ struct FinderConfig {
   /// Largest distance of two sensors of one layer along its normal
   /// (radial on barrels, z on disks) [mm] (chain key overlap_max_gap_mm).
   double overlapMaxGap = 12.0 * units::mm;
+  /// The vertex-z pre-pass, run once per event before the first step
+  /// (unset: not run, the default). Its vertex regions are the seeds' z
+  /// windows of the steps with a finite FindingStep::vertexWindow.
+  std::optional<VertexZPrepass::Config> vertexPrepass;
 };
 
 /// A problem of a chain, named by the chain-file key it comes from, so that

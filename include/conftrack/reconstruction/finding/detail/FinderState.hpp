@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace conftrack::detail {
@@ -51,6 +52,9 @@ struct FinderState {
   std::vector<std::uint8_t> used;
   std::vector<TrackCandidate> tracks;
   CloneIndex clones;
+  /// Vertex regions of the event from the vertex-z pre-pass ([lo, hi] in
+  /// z, ascending; empty without a pre-pass or where it found none).
+  std::vector<std::pair<double, double>> vertexRegions;
 
   FinderState(const ConformalHits& h, const Detector& d, const FinderConfig& c,
               double bz)
@@ -115,6 +119,11 @@ void completeTrack(FinderState& state, const FindingStep& step,
 /// of completeTrack for every live track, over `pool`, with the cuts of the
 /// step that built each track.
 void fillHoles(FinderState& state, const HitPool& pool, StepStats& stats);
+
+/// The chain's vertex-z pre-pass (FinderConfig::vertexPrepass, required):
+/// fills state.vertexRegions; returns its statistics (step "VertexZ": its
+/// time).
+StepStats findVertexRegions(FinderState& state);
 
 /// ExtendTracks: per-layer extension of tracks above the step's pT cut,
 /// then the catch-all extension of all tracks (algorithm.md 10).

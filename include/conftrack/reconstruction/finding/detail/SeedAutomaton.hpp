@@ -38,7 +38,10 @@ class SeedAutomaton {
         m_stats(stats),
         m_insideOut(step.direction == SearchDirection::eInsideOut),
         m_cosCellAngle(std::cos(step.maxCellAngle)),
-        m_cosCellAngleRZ(std::cos(step.maxCellAngleRZ)) {}
+        m_cosCellAngleRZ(std::cos(step.maxCellAngleRZ)),
+        m_zWindows(std::isfinite(step.vertexWindow)
+                       ? ZWindows(state.vertexRegions, 0.0)
+                       : ZWindows()) {}
 
   /// Runs the automaton for one seed; appends passing candidates.
   void run(ConfIndex seed, std::vector<TrackCandidate>& candidates);
@@ -118,6 +121,11 @@ class SeedAutomaton {
   bool m_insideOut;
   double m_cosCellAngle;
   double m_cosCellAngleRZ;
+  /// The event's vertex regions, for the seeds' z0 windows (empty: none).
+  ZWindows m_zWindows;
+  /// Largest growth of a seed cell's vertex window with its lever arm
+  /// (FindingStep::vertexWindow).
+  static constexpr double kMaxVertexLever = 10.0;
 
   // Step-wide cell graph (children computed once per cell).
   std::vector<Cell> m_cells;
