@@ -351,6 +351,7 @@ Json makeSummaryJson(const RunMetadata& m, const PerformanceSummary& s) {
     st["accepted"] = step.accepted;
     st["extended_hits"] = step.extendedHits;
     st["overlap_hits"] = step.overlapHits;
+    st["merged_tracks"] = step.mergedTracks;
     st["hits_used"] = step.hitsUsed;
     // (Kept for readers of older summaries: the bites of two guards.)
     st["path_overflows"] = step.guard(Guard::ePathsPerSeed).bites;

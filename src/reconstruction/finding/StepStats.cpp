@@ -43,6 +43,7 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   accepted += o.accepted;
   extendedHits += o.extendedHits;
   overlapHits += o.overlapHits;
+  mergedTracks += o.mergedTracks;
   hitsUsed += o.hitsUsed;
   recovered += o.recovered;
   cellCacheFlushes += o.cellCacheFlushes;

@@ -59,6 +59,7 @@ struct StepStats {
   std::uint64_t accepted = 0;      ///< tracks added (net of clones)
   std::uint64_t extendedHits = 0;  ///< hits added by extensions
   std::uint64_t overlapHits = 0;   ///< overlap hits added (OverlapHits)
+  std::uint64_t mergedTracks = 0;  ///< tracks joined into others (merging)
   std::uint64_t hitsUsed = 0;      ///< hits marked used at the end of step
   std::uint64_t recovered = 0;     ///< candidates saved by the recovery
   /// Times the step's cell cache was emptied at FinderConfig::
