@@ -174,18 +174,41 @@ std::uint32_t TrackMerger::dropTurns() {
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return betterCandidate(tracks[a], tracks[b]);
   });
+  // Rank in that order, and the tracks sorted by circle-centre x: a turn's
+  // centre lies within maxDistance of the first half-turn's.
+  std::vector<std::uint32_t> rank(tracks.size(), 0);
+  for (std::uint32_t i = 0; i < order.size(); ++i) {
+    rank[order[i]] = i;
+  }
+  std::vector<std::pair<double, std::uint32_t>> byX;
+  byX.reserve(order.size());
+  for (std::uint32_t t : order) {
+    byX.emplace_back(tracks[t].uv.centreX, t);
+  }
+  std::sort(byX.begin(), byX.end());
+  std::vector<std::uint32_t> turns;
   std::uint32_t dropped = 0;
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const TrackCandidate& first = tracks[order[i]];
+  for (std::uint32_t t : order) {
+    const TrackCandidate& first = tracks[t];
     if (!first.alive || !(2.0 * first.uv.radius <= m_config.maxLoopDiameter)) {
       continue;
     }
-    for (std::size_t j = i + 1; j < order.size(); ++j) {
-      TrackCandidate& turn = tracks[order[j]];
-      if (turn.alive && isFurtherTurn(first, turn)) {
-        turn.alive = false;
-        ++dropped;
+    turns.clear();
+    auto it = std::lower_bound(
+        byX.begin(), byX.end(),
+        std::make_pair(first.uv.centreX - m_config.maxDistance, 0u));
+    for (; it != byX.end() &&
+           it->first <= first.uv.centreX + m_config.maxDistance;
+         ++it) {
+      const std::uint32_t u = it->second;
+      if (rank[u] > rank[t] && tracks[u].alive &&
+          isFurtherTurn(first, tracks[u])) {
+        turns.push_back(u);
       }
+    }
+    for (std::uint32_t u : turns) {
+      tracks[u].alive = false;
+      ++dropped;
     }
   }
   return dropped;
@@ -205,10 +228,11 @@ bool TrackMerger::tryMerge(std::uint32_t ia, std::uint32_t ib,
     return false;
   }
   // The piece reaching further out has the better-measured circle.
-  const bool aRef = reach(m_hits, a) >= reach(m_hits, b);
+  const bool aRef = m_reach[ia] >= m_reach[ib];
   const TrackCandidate& ref = aRef ? a : b;
   const TrackCandidate& other = aRef ? b : a;
   const ArcFrame arc = makeArcFrame(ref.uv, m_hits, ref.hits.front());
+  // The transverse test first: it rejects most pairs and needs no atan2.
   for (ConfIndex h : other.hits) {
     const double d =
         norm2(m_hits.x[h] - arc.centreX, m_hits.y[h] - arc.centreY) -
@@ -216,6 +240,8 @@ bool TrackMerger::tryMerge(std::uint32_t ia, std::uint32_t ib,
     if (!(std::abs(d) <= m_config.maxDistance)) {
       return false;
     }
+  }
+  for (ConfIndex h : other.hits) {
     const double s = arc.arcLength(m_hits.x[h], m_hits.y[h], 0.0);
     const double dz = m_hits.z[h] - (ref.sz.z0 + ref.sz.tanLambda * s);
     if (!(std::abs(dz) <= m_config.maxDz)) {
@@ -287,6 +313,10 @@ std::uint32_t TrackMerger::run() {
   std::vector<Merge> found;
   std::vector<std::uint8_t> taken;
   for (std::uint32_t round = 0; round < m_config.maxRounds; ++round) {
+    m_reach.assign(tracks.size(), 0.0);
+    for (std::uint32_t t = 0; t < tracks.size(); ++t) {
+      m_reach[t] = reach(m_hits, tracks[t]);
+    }
     byPhi.clear();
     for (std::uint32_t t = 0; t < tracks.size(); ++t) {
       const TrackCandidate& c = tracks[t];
@@ -311,6 +341,12 @@ std::uint32_t TrackMerger::run() {
         }
         const std::uint32_t a = std::min(byPhi[i].second, byPhi[j].second);
         const std::uint32_t b = std::max(byPhi[i].second, byPhi[j].second);
+        // After the first round only pairs with a track that changed can
+        // have become compatible (the others were tested already).
+        if (tracks[a].uv.orientation != tracks[b].uv.orientation ||
+            (round > 0 && taken[a] == 0 && taken[b] == 0)) {
+          continue;
+        }
         TrackCandidate merged;
         if (tryMerge(a, b, merged)) {
           const double score = merged.quality();

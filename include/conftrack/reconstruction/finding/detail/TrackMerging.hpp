@@ -90,6 +90,8 @@ class TrackMerger {
   FinderState& m_state;
   const ConformalHits& m_hits;
   Config m_config;
+  /// Largest transverse radius of each track's hits (per round).
+  std::vector<double> m_reach;
 };
 
 /// Runs the merger with the cuts of the chain (FinderConfig) and compacts
