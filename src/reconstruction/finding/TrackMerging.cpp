@@ -30,9 +30,12 @@
 // found as an outgoing track of opposite charge on the same circle, the
 // next outgoing one as a copy of the first. They cross the same layers as
 // the first half-turn far from its hits, so they are never merged; instead
-// (Config::dropTurns) a track whose hits all lie on the circle of a better
-// track (betterCandidate: more hits first) whose circle fits inside the
-// tracker, at the z of that track's helix some whole number of turns on
+// (Config::dropTurns) a track whose circle and hits lie within
+// Config::maxTurnDistance of the circle of a better track (betterCandidate:
+// more hits first) whose diameter is below the outermost layer radius
+// (Config::maxLoopDiameter: only such a particle turns back inside the
+// tracker; CLICdet pT < 0.9 GeV), at the z of that track's helix some whole
+// number of turns on
 // (|k| <= kMaxTurns, k = 0 for the sense-reversed copy of a central
 // looper), is dropped: its hits are left alone rather than becoming a
 // second track of the particle.
@@ -95,6 +98,10 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
     throw std::invalid_argument(
         "TrackMerger: maxChi2Ratio must be finite and at least 1");
   }
+  if (!positiveFinite(m_config.maxTurnDistance)) {
+    throw std::invalid_argument(
+        "TrackMerger: maxTurnDistance must be positive and finite");
+  }
   if (!positiveFinite(m_config.maxLoopDiameter)) {
     throw std::invalid_argument(
         "TrackMerger: maxLoopDiameter must be positive and finite");
@@ -131,8 +138,8 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   const double radius = first.uv.radius;
   if (!(2.0 * radius <= m_config.maxLoopDiameter) ||
       norm2(first.uv.centreX - turn.uv.centreX,
-            first.uv.centreY - turn.uv.centreY) > m_config.maxDistance ||
-      std::abs(first.uv.radius - turn.uv.radius) > m_config.maxDistance) {
+            first.uv.centreY - turn.uv.centreY) > m_config.maxTurnDistance ||
+      std::abs(first.uv.radius - turn.uv.radius) > m_config.maxTurnDistance) {
     return false;
   }
   const ArcFrame arc = makeArcFrame(first.uv, m_hits, first.hits.front());
@@ -142,7 +149,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   for (ConfIndex h : turn.hits) {
     const double d =
         norm2(m_hits.x[h] - arc.centreX, m_hits.y[h] - arc.centreY) - radius;
-    if (!(std::abs(d) <= m_config.maxDistance)) {
+    if (!(std::abs(d) <= m_config.maxTurnDistance)) {
       return false;
     }
     s.push_back(arc.arcLength(m_hits.x[h], m_hits.y[h], 0.0));
@@ -175,7 +182,7 @@ std::uint32_t TrackMerger::dropTurns() {
     return betterCandidate(tracks[a], tracks[b]);
   });
   // Rank in that order, and the tracks sorted by circle-centre x: a turn's
-  // centre lies within maxDistance of the first half-turn's.
+  // centre lies within maxTurnDistance of the first half-turn's.
   std::vector<std::uint32_t> rank(tracks.size(), 0);
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     rank[order[i]] = i;
@@ -196,9 +203,9 @@ std::uint32_t TrackMerger::dropTurns() {
     turns.clear();
     auto it = std::lower_bound(
         byX.begin(), byX.end(),
-        std::make_pair(first.uv.centreX - m_config.maxDistance, 0u));
+        std::make_pair(first.uv.centreX - m_config.maxTurnDistance, 0u));
     for (; it != byX.end() &&
-           it->first <= first.uv.centreX + m_config.maxDistance;
+           it->first <= first.uv.centreX + m_config.maxTurnDistance;
          ++it) {
       const std::uint32_t u = it->second;
       if (rank[u] > rank[t] && tracks[u].alive &&
@@ -384,6 +391,7 @@ void mergeTracks(FinderState& state, StepStats& stats) {
   TrackMerger::Config config;
   config.maxDeltaPhi = state.config.mergeMaxDeltaPhi;
   config.maxDistance = state.config.mergeMaxDistance;
+  config.maxTurnDistance = state.config.mergeMaxDistance;
   config.maxDz = state.config.mergeMaxDz;
   config.maxChi2Ratio = state.config.mergeMaxChi2Ratio;
   config.maxSameLayerDistance = state.config.overlapMaxArc;
