@@ -1,13 +1,18 @@
 /// @file TrackMergingTests.cpp
 /// Track merging (detail/TrackMerging.hpp): two pieces of one helix become
-/// one track; pieces of two different nearby helices, and a looper's second
-/// half-turn, stay apart. The pieces are made directly (fitted hit lists
-/// in a FinderState), as the finder would leave them after a gap.
+/// one track; pieces of two different nearby helices stay apart; a looper's
+/// second half-turn is neither merged into its first half-turn nor kept as
+/// a second track, and never joins another particle's track. The pieces are
+/// made directly (fitted hit lists in a FinderState), as the finder would
+/// leave them after a gap.
 ///
 /// Tolerances: the synthetic hits lie exactly on their helices (5 um
 /// errors); "nearby" helices differ by 10 mrad in azimuth (1 mm at the
-/// outer layers, 200 sigma) or by 0.02 in tanLambda (2 mm in z).
+/// outer layers: inside the 10 mm geometric gate, 200 sigma for the merged
+/// fit) or by 0.02 in tanLambda (2 mm in z); the merged pT is checked to
+/// 0.05 GeV of 3.6 GeV and tanLambda to 1e-3.
 
+#include "conftrack/core/Error.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 
@@ -17,7 +22,9 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 
+#include "ChainText.hpp"
 #include "SyntheticHits.hpp"
 
 namespace conftrack {
@@ -191,6 +198,25 @@ TEST(TrackMerging, LooperSecondHalfTurnDoesNotJoinAnotherTrack) {
   ASSERT_EQ(f.state->tracks.size(), 2u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{101, 102, 103, 104, 105, 106,
                                                   107, 108}));
+}
+
+TEST(TrackMerging, ChainKeysAreRead) {
+  const Detector det = test::barrelDetector();
+  const FinderConfig c = parseChain(
+      "[finder]\ntrack_merging = false\nmerge_max_dphi = 0.2\n"
+      "merge_max_distance_mm = 4.0\nmerge_max_dz_mm = 8.0\n"
+      "merge_max_chi2_ratio = 5.0\n" +
+          minimalStep("Barrel"),
+      "chain.toml", det);
+  EXPECT_FALSE(c.trackMerging);
+  EXPECT_DOUBLE_EQ(c.mergeMaxDeltaPhi, 0.2);
+  EXPECT_DOUBLE_EQ(c.mergeMaxDistance, 4.0 * units::mm);
+  EXPECT_DOUBLE_EQ(c.mergeMaxDz, 8.0 * units::mm);
+  EXPECT_DOUBLE_EQ(c.mergeMaxChi2Ratio, 5.0);
+  EXPECT_THROW(
+      parseChain("[finder]\nmerge_max_dz_mm = -1.0\n" + minimalStep("Barrel"),
+                 "chain.toml", det),
+      InputError);
 }
 
 TEST(TrackMerging, CutsAreValidated) {
