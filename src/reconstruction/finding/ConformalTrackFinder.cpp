@@ -3,6 +3,7 @@
 #include "conftrack/core/Units.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 #include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
+#include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -130,6 +131,17 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
       HitPool all(conformal, std::move(members));
       detail::fillHoles(state, all, stats);
     }
+    stats.hitsUsed = static_cast<std::uint64_t>(
+        std::count(state.used.begin(), state.used.end(), 1));
+    stats.milliseconds = msSince(tStep);
+    result.steps.push_back(std::move(stats));
+  }
+
+  if (chain.trackMerging && state.tracks.size() > 1) {
+    const auto tStep = Clock::now();
+    StepStats stats;
+    stats.name = "Merging";
+    detail::mergeTracks(state, stats);
     stats.hitsUsed = static_cast<std::uint64_t>(
         std::count(state.used.begin(), state.used.end(), 1));
     stats.milliseconds = msSince(tStep);

@@ -191,6 +191,14 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         quantity(f, "overlap_max_arc_mm", units::mm, cfg.overlapMaxArc);
     cfg.overlapMaxGap =
         quantity(f, "overlap_max_gap_mm", units::mm, cfg.overlapMaxGap);
+    cfg.trackMerging = f.getBool("track_merging", cfg.trackMerging);
+    cfg.mergeMaxDeltaPhi =
+        quantity(f, "merge_max_dphi", units::rad, cfg.mergeMaxDeltaPhi);
+    cfg.mergeMaxDistance =
+        quantity(f, "merge_max_distance_mm", units::mm, cfg.mergeMaxDistance);
+    cfg.mergeMaxDz = quantity(f, "merge_max_dz_mm", units::mm, cfg.mergeMaxDz);
+    cfg.mergeMaxChi2Ratio =
+        quantity(f, "merge_max_chi2_ratio", 1.0, cfg.mergeMaxChi2Ratio);
     f.rejectUnknownKeys();
   }
   std::optional<ConfigTable> prepass = root.findTable("vertex_prepass");

@@ -233,6 +233,24 @@ struct FinderConfig {
   /// (unset: not run, the default). Its vertex regions are the seeds' z
   /// windows of the steps with a finite FindingStep::vertexWindow.
   std::optional<VertexZPrepass::Config> vertexPrepass;
+  /// After the final hole filling, join tracks that are pieces of one
+  /// particle: compatible circles and s-z lines, no two hits on one sensor
+  /// or far apart on one layer, a merged fit passing the pieces' chi2 cuts
+  /// (detail/TrackMerging.hpp). A conftrack addition (issue 15, chain key
+  /// track_merging).
+  bool trackMerging = true;
+  /// Largest azimuth difference of two pieces' circle centres seen from
+  /// the origin [rad] (chain key merge_max_dphi).
+  double mergeMaxDeltaPhi = 0.1;
+  /// Largest transverse distance of a piece's hits from the other piece's
+  /// circle [mm] (chain key merge_max_distance_mm).
+  double mergeMaxDistance = 10.0 * units::mm;
+  /// Largest z distance of a piece's hits from the other piece's s-z line
+  /// [mm] (chain key merge_max_dz_mm).
+  double mergeMaxDz = 20.0 * units::mm;
+  /// Largest ratio of the merged fit's chi2/ndf to the pieces' own (each
+  /// at least 1), in uv and in s-z (chain key merge_max_chi2_ratio).
+  double mergeMaxChi2Ratio = 10.0;
 };
 
 /// A problem of a chain, named by the chain-file key it comes from, so that

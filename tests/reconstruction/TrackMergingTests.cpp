@@ -1,0 +1,247 @@
+/// @file TrackMergingTests.cpp
+/// Track merging (detail/TrackMerging.hpp): two pieces of one helix become
+/// one track; pieces of two different nearby helices stay apart; a looper's
+/// second half-turn is neither merged into its first half-turn nor kept as
+/// a second track, and never joins another particle's track. The pieces are
+/// made directly (fitted hit lists in a FinderState), as the finder would
+/// leave them after a gap.
+///
+/// Tolerances: the synthetic hits lie exactly on their helices (5 um
+/// errors); "nearby" helices differ by 10 mrad in azimuth (1 mm at the
+/// outer layers: inside the 10 mm geometric gate, 200 sigma for the merged
+/// fit) or by 0.02 in tanLambda (2 mm in z); the merged pT is checked to
+/// 0.05 GeV of 3.6 GeV and tanLambda to 1e-3.
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+#include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+
+#include "ChainText.hpp"
+#include "SyntheticHits.hpp"
+
+namespace conftrack {
+namespace {
+
+constexpr double kRho = 3000.0;  // [mm]: 3.6 GeV in 4 T
+constexpr double kPhi0 = 0.4;
+constexpr double kTanL = 0.3;
+
+FinderConfig chain() {
+  FinderConfig cfg;
+  FindingStep s;
+  s.name = "build";
+  s.collections = {0};
+  s.build = true;
+  s.chi2Cut = 100.0;
+  s.minHits = 3;
+  cfg.steps.push_back(s);
+  return cfg;
+}
+
+/// The event's hits in conformal form, the finder state, and pieces
+/// (hit ids along the path) fitted as tracks of step 0.
+struct Fixture {
+  Detector det = test::barrelDetector();
+  FinderConfig cfg = chain();
+  std::vector<Hit> hits;
+  ConformalHits conformal;
+  std::unique_ptr<detail::FinderState> state;
+
+  void prepare(const std::vector<std::vector<std::uint64_t>>& pieces) {
+    conformal = makeConformalHits(hits, det);
+    state = std::make_unique<detail::FinderState>(conformal, det, cfg, 4.0);
+    for (const auto& ids : pieces) {
+      std::vector<ConfIndex> list;
+      for (std::uint64_t id : ids) {
+        for (ConfIndex c = 0; c < conformal.size(); ++c) {
+          if (conformal.id[c] == id) {
+            list.push_back(c);
+          }
+        }
+      }
+      ASSERT_EQ(list.size(), ids.size());
+      TrackCandidate t;
+      ASSERT_TRUE(detail::fitCandidate(*state, cfg.steps[0], list, t));
+      state->tracks.push_back(t);
+    }
+  }
+  std::uint32_t merge() {
+    StepStats stats;
+    detail::mergeTracks(*state, stats);
+    return static_cast<std::uint32_t>(stats.mergedTracks);
+  }
+  std::vector<std::uint64_t> ids(std::size_t t) const {
+    std::vector<std::uint64_t> out;
+    for (ConfIndex c : state->tracks[t].hits) {
+      out.push_back(conformal.id[c]);
+    }
+    return out;
+  }
+};
+
+TEST(TrackMerging, TwoPiecesOfOneHelixAreMerged) {
+  Fixture f;
+  f.hits = test::helixHits(f.det, kRho, kPhi0, 1, kTanL, 1);
+  ASSERT_EQ(f.hits.size(), 8u);
+  f.prepare({{1, 2, 3, 4}, {5, 6, 7, 8}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  // All eight hits, along the path.
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_NEAR(f.state->tracks[0].pt, 0.3 * 4.0 * kRho / 1000.0, 0.05);
+  EXPECT_NEAR(f.state->tracks[0].sz.tanLambda, kTanL, 1e-3);
+}
+
+TEST(TrackMerging, OrderOfHitsAndPiecesDoesNotMatter) {
+  Fixture f;
+  f.hits = test::helixHits(f.det, kRho, kPhi0, -1, kTanL, 1);
+  f.prepare({{1, 2, 3}, {4, 5, 6, 7, 8}});
+  ASSERT_EQ(f.merge(), 1u);
+  Fixture g;
+  g.hits = test::helixHits(g.det, kRho, kPhi0, -1, kTanL, 1);
+  std::reverse(g.hits.begin(), g.hits.end());
+  g.prepare({{4, 5, 6, 7, 8}, {1, 2, 3}});
+  ASSERT_EQ(g.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  ASSERT_EQ(g.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), g.ids(0));
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8}));
+}
+
+TEST(TrackMerging, DifferentNearbyHelicesStayApart) {
+  for (int which = 0; which < 2; ++which) {
+    Fixture f;
+    f.hits = test::helixHits(f.det, kRho, kPhi0, 1, kTanL, 1);
+    const double phi = which == 0 ? kPhi0 + 0.01 : kPhi0;
+    const double tanL = which == 0 ? kTanL : kTanL + 0.02;
+    std::vector<Hit> second = test::helixHits(f.det, kRho, phi, 1, tanL, 101);
+    f.hits.insert(f.hits.end(), second.begin(), second.end());
+    f.prepare({{1, 2, 3, 4}, {105, 106, 107, 108}});
+    EXPECT_EQ(f.merge(), 0u) << "case " << which;
+    EXPECT_EQ(f.state->tracks.size(), 2u);
+  }
+}
+
+/// Hits of a looper (circle of radius rho through the origin) on every
+/// barrel layer it crosses, outgoing half-turn (ids from 1) and incoming
+/// half-turn (ids from 51).
+std::vector<Hit> looperHits(const Detector& det, double rho, double tanL) {
+  const double omega = 1.0 / rho;
+  auto pos = [&](double s) {
+    return Vector3((std::sin(kPhi0) - std::sin(kPhi0 - omega * s)) / omega,
+                   -(std::cos(kPhi0) - std::cos(kPhi0 - omega * s)) / omega,
+                   s * tanL);
+  };
+  std::vector<Hit> hits;
+  const double half = std::numbers::pi * rho;
+  for (std::uint16_t l = 0; l < 8; ++l) {
+    const double r = det.layers()[l].r;
+    if (pos(half).head<2>().norm() < r) {
+      break;
+    }
+    for (int turn = 0; turn < 2; ++turn) {
+      // Outgoing: R grows on [0, half]; incoming: R falls on [half, 2 half].
+      double lo = turn == 0 ? 0.0 : half;
+      double hi = turn == 0 ? half : 2.0 * half;
+      for (int it = 0; it < 200; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        const bool inside = pos(mid).head<2>().norm() < r;
+        ((turn == 0) == inside ? lo : hi) = mid;
+      }
+      const Vector3 p = pos(0.5 * (lo + hi));
+      hits.push_back(test::barrelHit(det, l, p.x(), p.y(), p.z(),
+                                     (turn == 0 ? 1u : 51u) + l));
+    }
+  }
+  return hits;
+}
+
+TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
+  Fixture f;
+  // rho = 70 mm (0.084 GeV): reaches R = 140 mm, seven layers.
+  f.hits = looperHits(f.det, 70.0, 0.05);
+  ASSERT_EQ(f.hits.size(), 14u);
+  // The incoming half-turn, found outwards: a track of opposite charge on
+  // the same circle. Its hits are neither merged into the first half-turn
+  // (they cross its layers far from its hits) nor kept as a second track.
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+
+  // Without the looper rule the two half-turns stay two tracks (no merge).
+  Fixture g;
+  g.hits = f.hits;
+  g.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  detail::TrackMerger::Config cfg;
+  cfg.dropTurns = false;
+  EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
+}
+
+TEST(TrackMerging, LooperSecondHalfTurnDoesNotJoinAnotherTrack) {
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.05);
+  // A second particle along the looper's initial direction.
+  std::vector<Hit> other = test::helixHits(f.det, kRho, kPhi0, 1, 0.05, 101);
+  f.hits.insert(f.hits.end(), other.begin(), other.end());
+  f.prepare(
+      {{101, 102, 103, 104, 105, 106, 107, 108}, {57, 56, 55, 54, 53, 52, 51}});
+  EXPECT_EQ(f.merge(), 0u);
+  ASSERT_EQ(f.state->tracks.size(), 2u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{101, 102, 103, 104, 105, 106,
+                                                  107, 108}));
+}
+
+TEST(TrackMerging, ChainKeysAreRead) {
+  const Detector det = test::barrelDetector();
+  const FinderConfig c = parseChain(
+      "[finder]\ntrack_merging = false\nmerge_max_dphi = 0.2\n"
+      "merge_max_distance_mm = 4.0\nmerge_max_dz_mm = 8.0\n"
+      "merge_max_chi2_ratio = 5.0\n" +
+          minimalStep("Barrel"),
+      "chain.toml", det);
+  EXPECT_FALSE(c.trackMerging);
+  EXPECT_DOUBLE_EQ(c.mergeMaxDeltaPhi, 0.2);
+  EXPECT_DOUBLE_EQ(c.mergeMaxDistance, 4.0 * units::mm);
+  EXPECT_DOUBLE_EQ(c.mergeMaxDz, 8.0 * units::mm);
+  EXPECT_DOUBLE_EQ(c.mergeMaxChi2Ratio, 5.0);
+  EXPECT_THROW(
+      parseChain("[finder]\nmerge_max_dz_mm = -1.0\n" + minimalStep("Barrel"),
+                 "chain.toml", det),
+      InputError);
+}
+
+TEST(TrackMerging, CutsAreValidated) {
+  const Detector det = test::barrelDetector();
+  FinderConfig cfg = chain();
+  cfg.mergeMaxDistance = 0.0;
+  auto p = findChainProblem(cfg, det);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->key, "finder.merge_max_distance_mm");
+  cfg = chain();
+  cfg.mergeMaxChi2Ratio = 0.5;
+  p = findChainProblem(cfg, det);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->key, "finder.merge_max_chi2_ratio");
+
+  const ConformalHits none = makeConformalHits({}, det);
+  cfg = chain();
+  detail::FinderState state(none, det, cfg, 4.0);
+  detail::TrackMerger::Config bad;
+  bad.maxDz = std::nan("");
+  EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
+  bad = {};
+  bad.maxDeltaPhi = 4.0;
+  EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace conftrack
