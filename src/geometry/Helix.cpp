@@ -130,6 +130,34 @@ double Helix::nextCylinderCrossing(double r, double zMin, double zMax,
   return best <= hi ? best : kNoCrossing;
 }
 
+double Helix::planeCrossing(const Vector3& point, const Vector3& normal,
+                            double sStart, double maxShift, int maxIterations,
+                            double tolerance, double onPlane) const {
+  double s = sStart;
+  for (int iteration = 0; iteration < maxIterations; ++iteration) {
+    Vector3 p;
+    Vector3 q;
+    positionAndMomentum(s, p, q);
+    const double f = normal.dot(p - point);
+    if (iteration == 0 && std::abs(f) <= onPlane) {
+      return s;
+    }
+    const double slope = normal.dot(q) / m_pt;  // df/ds
+    if (!(std::abs(slope) > 1e-12)) {
+      return kNoCrossing;  // along the plane
+    }
+    const double step = -f / slope;
+    s += step;
+    if (!(std::abs(s - sStart) <= maxShift)) {
+      return kNoCrossing;
+    }
+    if (std::abs(step) <= tolerance) {
+      return s;
+    }
+  }
+  return kNoCrossing;
+}
+
 double Helix::nextDiskCrossing(double z, double rMin, double rMax, double sMin,
                                double sMax) const {
   if (m_tanLambda == 0.0) {

@@ -47,33 +47,12 @@ void findModuleCrossings(const Helix& helix, double sLayer, double sMin,
 
   // The window in s: the 3-D distance bounds the transverse arc.
   const double window = shift + shell;
-  const double pt = helix.pt();
   const std::size_t first = crossings.size();
   for (std::uint32_t index : scratch) {
     const PlanarModule& m = layout.modules()[index];
-    const Vector3 w = m.normal();
-    double s = sLayer;
-    bool converged = false;
-    for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-      Vector3 p;
-      Vector3 q;
-      helix.positionAndMomentum(s, p, q);
-      const double f = w.dot(p - m.center);
-      const double slope = w.dot(q) / pt;  // d/ds of f
-      if (std::abs(slope) < 1e-12) {
-        break;
-      }
-      const double step = -f / slope;
-      s += step;
-      if (std::abs(s - sLayer) > window) {
-        break;
-      }
-      if (std::abs(step) < kTolerance) {
-        converged = true;
-        break;
-      }
-    }
-    if (!converged || !(s > sMin)) {
+    const double s = helix.planeCrossing(m.center, m.normal(), sLayer, window,
+                                         kMaxIterations, kTolerance);
+    if (s == Helix::kNoCrossing || !(s > sMin)) {
       continue;
     }
     const Vector3 local = m.toLocal(helix.position(s));

@@ -70,19 +70,8 @@ TEST(CloneTreatment, ReplacesSeveralWorseTracks) {
 
 /// One step over the synthetic barrel with loose angles.
 FinderConfig oneStep(bool recovery) {
-  FinderConfig cfg;
-  FindingStep s;
-  s.name = "build";
-  s.collections = {0};
-  s.build = true;
-  s.maxCellAngle = 0.05;
-  s.maxCellAngleRZ = 0.05;
-  s.chi2Cut = 50.0;
-  s.minHits = 5;
-  s.maxDistance = 0.05;
-  s.radialSearch = true;
-  s.recovery = recovery;
-  cfg.steps.push_back(s);
+  FinderConfig cfg = test::oneBuildStep();
+  cfg.steps[0].recovery = recovery;
   return cfg;
 }
 

@@ -59,18 +59,7 @@ std::vector<Hit> trackWithOverlap(const Detector& det, double dr,
 }
 
 FinderConfig oneStep(bool overlaps) {
-  FinderConfig cfg;
-  FindingStep s;
-  s.name = "build";
-  s.collections = {0};
-  s.build = true;
-  s.maxCellAngle = 0.05;
-  s.maxCellAngleRZ = 0.05;
-  s.chi2Cut = 50.0;
-  s.minHits = 5;
-  s.maxDistance = 0.05;
-  s.radialSearch = true;
-  cfg.steps.push_back(s);
+  FinderConfig cfg = test::oneBuildStep();
   cfg.overlapHits = overlaps;
   return cfg;
 }

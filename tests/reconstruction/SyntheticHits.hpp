@@ -5,6 +5,7 @@
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
 
 #include <cmath>
 #include <string>
@@ -42,6 +43,24 @@ sigma_rphi_um = 5.0
 sigma_r_um = 50.0
 )";
   return parseDetector(text, "synthetic.toml");
+}
+
+/// One build step over the "Barrel" of barrelDetector() with loose angles
+/// and chi2 (five hits).
+inline FinderConfig oneBuildStep() {
+  FinderConfig cfg;
+  FindingStep s;
+  s.name = "build";
+  s.collections = {0};
+  s.build = true;
+  s.maxCellAngle = 0.05;
+  s.maxCellAngleRZ = 0.05;
+  s.chi2Cut = 50.0;
+  s.minHits = 5;
+  s.maxDistance = 0.05;
+  s.radialSearch = true;
+  cfg.steps.push_back(s);
+  return cfg;
 }
 
 /// A hit on barrel layer `layer` of barrelDetector() at (x, y, z).

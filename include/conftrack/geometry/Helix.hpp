@@ -148,6 +148,18 @@ class Helix {
   double nextDiskCrossing(double z, double rMin, double rMax, double sMin,
                           double sMax) const;
 
+  /// Crossing with the plane through `point` with unit normal `normal`
+  /// nearest to sStart (a tilted sensor near its layer crossing), by
+  /// Newton's method on normal . (P(s) - point) from sStart: the arc length,
+  /// or kNoCrossing if the helix runs along the plane, an iterate leaves
+  /// |s - sStart| <= maxShift, or `maxIterations` steps do not bring the
+  /// step below `tolerance`. A start within `onPlane` of the plane is
+  /// returned as is. Used by the simulation (sensor crossings) and the
+  /// fit (measurement planes), so both find the same point.
+  double planeCrossing(const Vector3& point, const Vector3& normal,
+                       double sStart, double maxShift, int maxIterations,
+                       double tolerance, double onPlane = 0.0) const;
+
   /// Next crossing with the cone r = r1 + (z - zMin) slope, zMin <= z <=
   /// zMax, at s in (sMin, sMax]. A root search (see Helix.cpp): steps that
   /// provably contain no root (bounds on the first and second derivative

@@ -320,35 +320,13 @@ FitStatus KalmanFitter::planeCrossing(const HelixState& state,
   jacobian.setIdentity();
   const Vector3& g = measurement.normal;
   const Helix helix = makeHelix(state, m_bz, +1);
-  // Newton's method on f(s) = g . (P(s) - origin) from the PCA (s = 0),
-  // which is at or near the layer crossing: it converges to the plane
-  // crossing nearest to it. s < 0 is behind the PCA (the Helix formulae
-  // hold for both signs).
-  double s = 0.0;
-  bool converged = false;
-  for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
-    Vector3 p;
-    Vector3 q;
-    helix.positionAndMomentum(s, p, q);
-    const double f = g.dot(p - measurement.origin);
-    if (iteration == 0 && std::abs(f) <= kOnSurface) {
-      return FitStatus::eSuccess;  // already on the plane
-    }
-    const double slope = g.dot(q) / helix.pt();  // df/ds
-    if (!(std::abs(slope) > 1e-12)) {
-      return FitStatus::ePropagationFailed;  // along the plane
-    }
-    const double step = -f / slope;
-    s += step;
-    if (!(std::abs(s) <= kMaxPlaneShift)) {
-      return FitStatus::ePropagationFailed;
-    }
-    if (std::abs(step) <= kNewtonTolerance) {
-      converged = true;
-      break;
-    }
-  }
-  if (!converged) {
+  // From the PCA (s = 0), which is at or near the layer crossing: the
+  // plane crossing nearest to it. s < 0 is behind the PCA (the Helix
+  // formulae hold for both signs).
+  const double s =
+      helix.planeCrossing(measurement.origin, g, 0.0, kMaxPlaneShift,
+                          kMaxNewtonIterations, kNewtonTolerance, kOnSurface);
+  if (s == Helix::kNoCrossing) {
     return FitStatus::ePropagationFailed;
   }
   if (s == 0.0) {
