@@ -52,13 +52,13 @@ std::shared_ptr<const ModuleLayout> loadSensorLayout(const Detector& detector,
 
 Reconstruction::Config makeReconstructionConfig(const ReconstructionOptions& o,
                                                 const Detector& detector) {
-  Reconstruction::Config c;
   std::string chain = o.chain;
   if (chain.empty()) {
     // The shipped chain of a shipped detector has the detector's file name.
     chain = std::filesystem::path(o.detector).stem().string();
   }
-  c.chain = readChain(resolveChainPath(chain), detector);
+  Reconstruction::Config c =
+      readReconstructionConfig(resolveChainPath(chain), detector);
   c.fit = !o.noFit;
   c.fitter.pdg = o.fitPdg;
   return c;

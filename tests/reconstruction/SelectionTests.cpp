@@ -1,7 +1,11 @@
 /// @file SelectionTests.cpp
 /// The track selection on hand-made tracks: clone treatment (more hits,
-/// then lower chi2/ndf, then hit ids), minimum hits, fit failures.
+/// then lower chi2/ndf, then hit ids), minimum hits, fit failures, the
+/// shared-hit resolution and the [selection] table of chain files.
 
+#include "conftrack/core/Error.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +14,8 @@
 #include <numeric>
 #include <stdexcept>
 #include <vector>
+
+#include "ChainText.hpp"
 
 namespace conftrack {
 namespace {
@@ -190,6 +196,110 @@ TEST(Selection, BadTracksThrow) {
   EXPECT_THROW(TrackSelector().run(hits, {bad}), std::invalid_argument);
   EXPECT_THROW(TrackSelector().run(hits, {makeTrack({1, 2, 99}, 1.0)}),
                std::out_of_range);
+}
+
+TEST(Selection, SharedHitResolutionDropsTracksWithFewOwnHits) {
+  const auto hits = makeHits();
+  TrackSelector::Config config;
+  config.minUniqueHits = 3;
+  const TrackSelector selector(config);
+  // Two good tracks and a third with one hit of each and two of its own:
+  // no clone (one shared hit per pair), but only two hits of its own.
+  const std::vector<Track> tracks = {makeTrack({1, 2, 3, 4, 5, 6}, 1.0),
+                                     makeTrack({10, 11, 12, 13, 14}, 1.0),
+                                     makeTrack({6, 14, 20, 21}, 1.0)};
+  const auto r = selector.run(hits, tracks);
+  EXPECT_EQ(hitLists(r), (std::vector<std::vector<HitIndex>>{
+                             {1, 2, 3, 4, 5, 6}, {10, 11, 12, 13, 14}}));
+  EXPECT_EQ(r.ambiguous, 1u);
+  EXPECT_EQ(r.clones, 0u);
+  // Three hits of its own are enough.
+  std::vector<Track> enough = tracks;
+  enough[2] = makeTrack({6, 14, 20, 21, 22}, 1.0);
+  EXPECT_EQ(selector.run(hits, enough).tracks.size(), 3u);
+  // Off by default: all three kept.
+  EXPECT_EQ(TrackSelector().run(hits, tracks).tracks.size(), 3u);
+}
+
+TEST(Selection, SharedHitResolutionSparesTracksSharingNothing) {
+  const auto hits = makeHits();
+  TrackSelector::Config config;
+  config.minUniqueHits = 5;
+  // Four hits, none shared: an ambiguity of nobody, kept (minHits 3).
+  const auto r = TrackSelector(config).run(
+      hits,
+      {makeTrack({1, 2, 3, 4, 5, 6}, 1.0), makeTrack({7, 8, 9, 10}, 1.0)});
+  EXPECT_EQ(r.tracks.size(), 2u);
+  EXPECT_EQ(r.ambiguous, 0u);
+}
+
+TEST(Selection, SharedHitResolutionCountsOutliersAndIsOrderFree) {
+  const auto hits = makeHits();
+  TrackSelector::Config config;
+  config.minUniqueHits = 3;
+  const TrackSelector selector(config);
+  // The second track's own hits 20 and 21 are outliers: they still count
+  // as its own (three with 22), so it stays.
+  std::vector<Track> tracks = {
+      makeTrack({1, 2, 3, 4, 5, 6}, 1.0),
+      makeTrack({6, 20, 21, 22, 23, 24}, 2.0, {0, 1, 1, 0, 0, 0})};
+  EXPECT_EQ(selector.run(hits, tracks).tracks.size(), 2u);
+  // The better track claims first whatever the input order: the longer
+  // one keeps its shared hits and the short one with two own hits goes.
+  tracks = {makeTrack({1, 2, 3, 7, 8}, 1.0), makeTrack({1, 9, 10, 11}, 0.5),
+            makeTrack({3, 9, 12, 13}, 0.7)};
+  const auto forward = hitLists(selector.run(hits, tracks));
+  std::reverse(tracks.begin(), tracks.end());
+  auto backward = hitLists(selector.run(hits, tracks));
+  std::sort(backward.begin(), backward.end());
+  auto sortedForward = forward;
+  std::sort(sortedForward.begin(), sortedForward.end());
+  EXPECT_EQ(sortedForward, backward);
+  // {1,2,3,7,8} first; {1,9,10,11} (chi2 0.5) has 3 own hits and stays;
+  // {3,9,12,13} then has two own hits (12, 13) and goes.
+  EXPECT_EQ(forward, (std::vector<std::vector<HitIndex>>{{1, 2, 3, 7, 8},
+                                                         {1, 9, 10, 11}}));
+}
+
+TEST(Selection, ConfigIsValidated) {
+  TrackSelector::Config zero;
+  zero.minHits = 0;
+  EXPECT_THROW(TrackSelector{zero}, std::invalid_argument);
+  TrackSelector::Config huge;
+  huge.minUniqueHits = 5000;
+  EXPECT_THROW(TrackSelector{huge}, std::invalid_argument);
+  EXPECT_FALSE(TrackSelector::findProblem(TrackSelector::Config{}));
+}
+
+TEST(Selection, ChainFileSelectionTable) {
+  const Detector det = loadDetector("clicdet");
+  const std::string steps = minimalStep("VertexBarrel");
+  const Reconstruction::Config c = parseReconstructionConfig(
+      "[selection]\nmin_unique_hits = 6\nmin_hits = 4\n" + steps, "c.toml",
+      det);
+  EXPECT_EQ(c.selector.minUniqueHits, 6u);
+  EXPECT_EQ(c.selector.minHits, 4u);
+  EXPECT_EQ(c.selector.cloneSharedHits, 2u);
+  EXPECT_EQ(c.chain.steps.size(), 1u);
+  // Without the table: the defaults.
+  EXPECT_EQ(parseReconstructionConfig(steps, "c.toml", det).selector.minHits,
+            3u);
+  // Bad values and unknown keys: located at the key.
+  for (const char* bad :
+       {"[selection]\nmin_hits = 0\n", "[selection]\nmin_unique_hits = -1\n",
+        "[selection]\nmin_unique_hitz = 3\n"}) {
+    try {
+      parseReconstructionConfig(std::string(bad) + steps, "c.toml", det);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("c.toml:2"), std::string::npos)
+          << e.what();
+    }
+  }
+  // The finder's own reader accepts the table (and leaves it alone).
+  EXPECT_EQ(parseChain("[selection]\nmin_hits = 4\n" + steps, "c.toml", det)
+                .steps.size(),
+            1u);
 }
 
 }  // namespace

@@ -12,8 +12,11 @@
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"
 
+#include <filesystem>
 #include <memory>
 #include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace conftrack {
@@ -69,5 +72,19 @@ class Reconstruction {
   KalmanFitter m_fitter;
   TrackSelector m_selector;
 };
+
+/// The reconstruction settings of a chain file (chains/<detector>.toml):
+/// the finder's tables ([finder], [vertex_prepass], [[step]]: readChain)
+/// and the track selection's [selection] table (keys min_hits,
+/// clone_shared_hits, min_unique_hits: TrackSelector::Config; absent keys
+/// keep the defaults). Bad values throw InputError naming file, line and
+/// key. `fit` is true.
+Reconstruction::Config readReconstructionConfig(
+    const std::filesystem::path& chainFile, const Detector& detector);
+
+/// readReconstructionConfig on TOML text; `sourceName` names it in errors.
+Reconstruction::Config parseReconstructionConfig(std::string_view text,
+                                                 const std::string& sourceName,
+                                                 const Detector& detector);
 
 }  // namespace conftrack

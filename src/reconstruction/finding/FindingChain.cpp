@@ -205,6 +205,9 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
   if (prepass) {
     cfg.vertexPrepass = readVertexPrepass(*prepass, detector);
   }
+  // [selection] belongs to the track selection of the same file
+  // (readReconstructionConfig); the finder has no use for it.
+  (void)root.findTable("selection");
   std::vector<ConfigTable> steps = root.getTableArray("step");
   for (const ConfigTable& step : steps) {
     cfg.steps.push_back(readStep(step, detector));

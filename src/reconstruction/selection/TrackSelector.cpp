@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace conftrack {
 
@@ -38,6 +39,26 @@ double chi2PerNdf(const Track& track) {
 
 }  // namespace
 
+std::optional<TrackSelector::Problem> TrackSelector::findProblem(
+    const Config& config) {
+  if (config.minHits == 0) {
+    return Problem{"min_hits", "must be at least 1"};
+  }
+  // Tracks have at most a few hundred hits; a larger value is a typo.
+  constexpr std::uint32_t kMaxUniqueHits = 1000;
+  if (config.minUniqueHits > kMaxUniqueHits) {
+    return Problem{"min_unique_hits",
+                   "must be at most " + std::to_string(kMaxUniqueHits)};
+  }
+  return std::nullopt;
+}
+
+TrackSelector::TrackSelector(const Config& config) : m_config(config) {
+  if (std::optional<Problem> p = findProblem(m_config)) {
+    throw std::invalid_argument("TrackSelector: " + p->key + " " + p->what);
+  }
+}
+
 SelectionResult TrackSelector::run(std::span<const Hit> hits,
                                    std::vector<Track> tracks) const {
   SelectionResult result;
@@ -57,7 +78,7 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
     candidates.push_back(i);
   }
   std::vector<std::uint8_t> keep(tracks.size(), 0);
-  if (m_config.cloneSharedHits == 0) {
+  if (m_config.cloneSharedHits == 0 && m_config.minUniqueHits == 0) {
     for (std::size_t i : candidates) {
       keep[i] = 1;
     }
@@ -80,10 +101,15 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
     // Hit id -> kept tracks holding it; shared-hit counts per kept track.
     std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> owners;
     std::unordered_map<std::uint32_t, std::uint32_t> shared;
+    // Ids of all hits (outliers included) of the kept tracks.
+    std::unordered_set<std::uint64_t> claimed;
     for (std::size_t i : candidates) {
       shared.clear();
       bool clone = false;
       for (std::uint64_t id : ids[i]) {
+        if (m_config.cloneSharedHits == 0) {
+          break;
+        }
         auto it = owners.find(id);
         if (it == owners.end()) {
           continue;
@@ -101,6 +127,23 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
       if (clone) {
         ++result.clones;
         continue;
+      }
+      if (m_config.minUniqueHits > 0) {
+        // All hits count here, outliers included: the finder put them on
+        // the track, and an outlier-rich track is no fake for that (a fit
+        // pulled off by one wrong hit flags many good ones).
+        std::size_t unique = 0;
+        for (HitIndex h : tracks[i].hits) {
+          unique += claimed.contains(hits[h].id) ? 0 : 1;
+        }
+        // A track that shares no hit is no ambiguity (minHits judges it).
+        if (unique < tracks[i].hits.size() && unique < m_config.minUniqueHits) {
+          ++result.ambiguous;
+          continue;
+        }
+        for (HitIndex h : tracks[i].hits) {
+          claimed.insert(hits[h].id);
+        }
       }
       keep[i] = 1;
       for (std::uint64_t id : ids[i]) {

@@ -11,7 +11,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace conftrack {
@@ -26,6 +28,8 @@ struct SelectionResult {
   std::size_t tooFewHits = 0;
   /// Dropped as clones of a better track.
   std::size_t clones = 0;
+  /// Dropped for fewer than Config::minUniqueHits hits of their own.
+  std::size_t ambiguous = 0;
 };
 
 /// Track selection.
@@ -39,6 +43,14 @@ struct SelectionResult {
 ///    hit ids. The tracks are visited best first and a track is kept if it
 ///    shares fewer than cloneSharedHits hits with every track kept before,
 ///    so the result is independent of the input order.
+/// 3. Shared-hit resolution (ambiguity resolution, off by default): in the
+///    same best-first order, a track that shares hits with better kept
+///    tracks is dropped if fewer than minUniqueHits of its hits (outliers
+///    included) are its own; a track sharing none is left to minHits. The clone
+///    treatment removes pairs sharing several hits; this removes the tracks
+///    that share one hit with each of several better tracks, which in dense
+///    events are mostly fakes built across neighbouring particles
+///    (docs/algorithm.md section 10). A shared hit stays on both kept tracks.
 ///
 /// Thread-safe: run() is const.
 class TrackSelector {
@@ -53,12 +65,28 @@ class TrackSelector {
     std::uint32_t minHits = 3;
     /// Drop tracks whose fit failed.
     bool requireFitted = true;
+    /// Shared-hit resolution: a track holding hits of better kept tracks
+    /// needs at least this many hits (outliers included) of its own. 0 disables
+    /// it (CLICdet, CLD: one hit per particle and layer, few shared hits);
+    /// TrackML: 6.
+    std::uint32_t minUniqueHits = 0;
   };
 
   /// A selector with the default Config.
   TrackSelector() = default;
-  /// A selector with `config`.
-  explicit TrackSelector(const Config& config) : m_config(config) {}
+  /// A selector with `config`; throws std::invalid_argument with the
+  /// problem findProblem reports.
+  explicit TrackSelector(const Config& config);
+
+  /// A nonsense setting: its chain-file key ([selection] table) and what is
+  /// wrong with it.
+  struct Problem {
+    std::string key;
+    std::string what;
+  };
+  /// The first nonsense setting of `config` (minHits = 0, minUniqueHits
+  /// above 1000), none if it is valid.
+  static std::optional<Problem> findProblem(const Config& config);
 
   /// The settings.
   const Config& config() const { return m_config; }
