@@ -9,7 +9,7 @@
 #include "conftrack/io/TrackFiles.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
-#include "conftrack/reconstruction/finding/FindingChain.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
 #include "conftrack/simulation/generators/HepMC3Generator.hpp"
 #include "conftrack/simulation/generators/HepMCText.hpp"
@@ -163,10 +163,11 @@ Outcome chainToml(std::string_view data) {
   }
   Outcome result = Outcome::eRefused;
   for (std::string_view detector : {"clicdet", "cld", "trackml"}) {
-    result = either(result, refusedOr([&] {
-                      readChainTable(ConfigTable(*table, "chain.toml", ""),
-                                     shippedDetector(detector));
-                    }));
+    result =
+        either(result, refusedOr([&] {
+                 readReconstructionTable(ConfigTable(*table, "chain.toml", ""),
+                                         shippedDetector(detector));
+               }));
   }
   return result;
 }

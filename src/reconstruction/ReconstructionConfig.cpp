@@ -36,17 +36,21 @@ TrackSelector::Config readSelection(const ConfigTable& t,
 
 }  // namespace
 
-Reconstruction::Config parseReconstructionConfig(std::string_view text,
-                                                 const std::string& sourceName,
-                                                 const Detector& detector) {
-  std::shared_ptr<toml::table> table = ConfigTable::parse(text, sourceName);
-  const ConfigTable root(*table, sourceName, "");
+Reconstruction::Config readReconstructionTable(const ConfigTable& root,
+                                               const Detector& detector) {
   Reconstruction::Config config;
   if (std::optional<ConfigTable> selection = root.findTable("selection")) {
     config.selector = readSelection(*selection, config.selector);
   }
   config.chain = readChainTable(root, detector);
   return config;
+}
+
+Reconstruction::Config parseReconstructionConfig(std::string_view text,
+                                                 const std::string& sourceName,
+                                                 const Detector& detector) {
+  std::shared_ptr<toml::table> table = ConfigTable::parse(text, sourceName);
+  return readReconstructionTable(ConfigTable(*table, sourceName, ""), detector);
 }
 
 Reconstruction::Config readReconstructionConfig(

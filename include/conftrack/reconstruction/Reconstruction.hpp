@@ -4,6 +4,7 @@
 /// The whole reconstruction of one event: conformal finding, Kalman
 /// fitting and track selection (paper section 4). Truth is never used.
 
+#include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/ModuleLayout.hpp"
@@ -86,5 +87,10 @@ Reconstruction::Config readReconstructionConfig(
 Reconstruction::Config parseReconstructionConfig(std::string_view text,
                                                  const std::string& sourceName,
                                                  const Detector& detector);
+
+/// readReconstructionConfig on a parsed chain file (its root table): one
+/// parse, read against several detectors.
+Reconstruction::Config readReconstructionTable(const ConfigTable& root,
+                                               const Detector& detector);
 
 }  // namespace conftrack
