@@ -467,11 +467,63 @@ Track KalmanFitter::fit(std::span<const Hit> hits, const FitInput& input,
       out.inverted = false;
     }
   }
+  if (status == FitStatus::eSuccess && m_config.majorityRefit) {
+    refitMajority(hits, input, measurements, first, attempt, out);
+  }
   out.status = status;
   if (status == FitStatus::eSuccess) {
     return attempt;
   }
   return track;
+}
+
+void KalmanFitter::refitMajority(std::span<const Hit> hits,
+                                 const FitInput& input,
+                                 const std::vector<Measurement>& measurements,
+                                 int direction, Track& attempt,
+                                 FitInfo& info) const {
+  const std::size_t used = attempt.numMeasurements();
+  const std::size_t flagged = attempt.hits.size() - used;
+  if (flagged <= used || flagged < m_config.minHits) {
+    return;
+  }
+  // The flagged hits, in path order, with their measurements.
+  std::vector<std::uint32_t> positions;
+  positions.reserve(flagged);
+  for (std::uint32_t i = 0; i < attempt.outlier.size(); ++i) {
+    if (attempt.outlier[i] != 0) {
+      positions.push_back(i);
+    }
+  }
+  std::vector<HitIndex> subHits(positions.size());
+  std::vector<Measurement> subMeasurements(positions.size());
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    subHits[k] = input.hits[positions[k]];
+    subMeasurements[k] = measurements[positions[k]];
+  }
+  const FitInput subInput{subHits, input.backward};
+  Track majority;
+  majority.hits = subHits;
+  majority.outlier.assign(subHits.size(), 0);
+  FitStatus status =
+      fitDirection(hits, subInput, subMeasurements, direction, false, majority);
+  if (status != FitStatus::eSuccess) {
+    majority.outlier.assign(subHits.size(), 0);
+    status = fitDirection(hits, subInput, subMeasurements, -direction, false,
+                          majority);
+  }
+  if (status != FitStatus::eSuccess || majority.numMeasurements() <= used) {
+    return;
+  }
+  // The majority fit's states with flags over all hits of the track.
+  std::vector<std::uint8_t> outlier(attempt.hits.size(), 1);
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    outlier[positions[k]] = majority.outlier[k];
+  }
+  majority.hits = std::move(attempt.hits);
+  majority.outlier = std::move(outlier);
+  attempt = std::move(majority);
+  info.majority = true;
 }
 
 FittingResult KalmanFitter::run(std::span<const Hit> hits,
@@ -487,6 +539,9 @@ FittingResult KalmanFitter::run(std::span<const Hit> hits,
     }
     if (info.diffuse) {
       ++result.fallbacks;
+    }
+    if (info.majority) {
+      ++result.majorityRefits;
     }
     if (info.status != FitStatus::eSuccess) {
       ++result.failures;
