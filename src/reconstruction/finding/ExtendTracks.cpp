@@ -370,6 +370,36 @@ void Extender::predict(std::uint32_t layer, const ArcFrame& arc,
   m_predictions.clear();
   const SensitiveLayer& l = m_state.detector.layers()[layer];
   const double turn = 2.0 * std::numbers::pi * arc.radius;
+  if (m_outerRadius < 0.0) {
+    m_outerRadius = 0.0;
+    for (const SensitiveLayer& o : m_state.detector.layers()) {
+      m_outerRadius = std::max(m_outerRadius, o.isDisk() ? o.rMax : o.r);
+    }
+    m_outerRadius += kLayerMargin;
+  }
+  // A track whose circle leaves the tracker's outer radius ends there:
+  // crossings further on (an endcap disk a turn later) belong to another
+  // track.
+  double sExit = std::numeric_limits<double>::infinity();
+  if (!m_inward) {
+    const double d = norm2(arc.centreX, arc.centreY);
+    const double rho = arc.radius;
+    const double ro = m_outerRadius;
+    if (d > 1e-9 && ro < d + rho && ro > std::abs(d - rho)) {
+      const double a = (ro * ro - rho * rho + d * d) / (2.0 * d);
+      const double h = std::sqrt(std::max(0.0, ro * ro - a * a));
+      const double ex = arc.centreX / d;
+      const double ey = arc.centreY / d;
+      for (int sign : {1, -1}) {
+        double sx = arc.arcLength(a * ex - sign * h * ey,
+                                  a * ey + sign * h * ex, sLast);
+        while (sx <= sLast + 1e-6) {
+          sx += turn;
+        }
+        sExit = std::min(sExit, sx);
+      }
+    }
+  }
   auto after = [&](double s) {
     if (m_inward) {
       while (s >= sLast - 1e-6) {
@@ -400,6 +430,9 @@ void Extender::predict(std::uint32_t layer, const ArcFrame& arc,
       double px = a * ex - sign * h * ey;
       double py = a * ey + sign * h * ex;
       double s = after(arc.arcLength(px, py, sLast));
+      if (s > sExit) {
+        continue;
+      }
       if (!m_catchAll && std::abs(s - sLast) > 0.5 * turn) {
         continue;  // the per-layer pass follows the outgoing branch only
       }
@@ -415,7 +448,7 @@ void Extender::predict(std::uint32_t layer, const ArcFrame& arc,
     }
     double s = (l.z() - sz.z0) / sz.tanLambda;
     bool ahead = m_inward ? s < sLast : s > sLast;
-    if (!ahead || std::abs(s - sLast) > turn) {
+    if (!ahead || std::abs(s - sLast) > turn || s > sExit) {
       return;
     }
     Vector2 p = arc.pointAt(s);

@@ -146,6 +146,9 @@ class Extender {
   bool m_catchAll = false;
   bool m_inward = false;
   bool m_quadratic = true;
+  /// Outer radius of the tracker's layers plus a margin [mm] (set on first
+  /// use).
+  double m_outerRadius = -1.0;
   std::vector<Prediction> m_predictions;
   std::vector<ConfIndex> m_window;
   /// Scratch of limitWindow: (squared distance, hit).
