@@ -204,7 +204,7 @@ TEST(ExtensionConfig, FromStepTakesTheStepAndFinderSettings) {
   EXPECT_EQ(c.cuts.maxWindowHits, 17u);
   EXPECT_EQ(c.cuts.lookahead, 1);
   EXPECT_FALSE(c.scatteringAllowance);
-  // The pT scaling of the step's cut: the same formula, bit for bit.
+  // The pT scaling of the step's cut (one formula, scaledChi2Cut).
   for (double pt : {0.0, 1e-4, 0.5, 1.25, 2.4999, 2.5, 10.0}) {
     EXPECT_EQ(c.cuts.chi2CutAt(pt), cfg.steps[0].chi2CutAt(pt)) << pt;
   }

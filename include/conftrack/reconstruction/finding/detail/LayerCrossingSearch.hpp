@@ -9,7 +9,6 @@
 
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
-#include <algorithm>
 #include <cstdint>
 #include <string_view>
 #include <utility>
@@ -164,18 +163,6 @@ void claimHit(FinderState& state, StepStats& stats, ConfIndex h,
 /// Writes a grown chain back into the track (hits, fits, pT estimate).
 void storeChain(const FinderState& state, const Chain& chain,
                 TrackCandidate& track);
-
-/// The chi2 cut `cut` scaled for a track of transverse momentum `pt` [GeV]:
-/// as (ptScale / pT)^2 below ptScale (0: no scaling). The formula of
-/// FindingStep::chi2CutAt, for the units' configurations, which carry the
-/// two numbers instead of the step (a test checks that the two agree).
-inline double scaledChi2Cut(double cut, double ptScale, double pt) {
-  if (ptScale > 0.0 && pt < ptScale) {
-    double r = ptScale / std::max(pt, 1e-3);
-    return cut * r * r;
-  }
-  return cut;
-}
 
 /// Largest angle cut or azimuth window of the units' configurations [rad]
 /// (that of the chain validation).
