@@ -26,6 +26,18 @@ enum class SearchDirection : std::uint8_t {
   eOutsideIn,  ///< seed outermost, grow inwards (displaced tracks)
 };
 
+/// The chi2 cut `cut` scaled for a candidate of transverse momentum `pt`
+/// [GeV]: as (ptScale / pT)^2 below ptScale (0: no scaling). One formula
+/// for the steps (FindingStep::chi2CutAt) and the extension and hole
+/// filling units, which carry the two numbers in their own configurations.
+inline double scaledChi2Cut(double cut, double ptScale, double pt) {
+  if (ptScale > 0.0 && pt < ptScale) {
+    double r = ptScale / std::max(pt, 1e-3);
+    return cut * r * r;
+  }
+  return cut;
+}
+
 /// One step of the chain. Defaults are those of the CLICdet chain's first
 /// step (algorithm.md 13.1).
 struct FindingStep {
@@ -59,13 +71,7 @@ struct FindingStep {
   /// low-pT tracks or admits everything at high pT.
   double chi2PtScale = 0.0;
   /// The chi2 cut for a candidate of transverse momentum `pt` [GeV].
-  double chi2CutAt(double pt) const {
-    if (chi2PtScale > 0.0 && pt < chi2PtScale) {
-      double r = chi2PtScale / std::max(pt, 1e-3);
-      return chi2Cut * r * r;
-    }
-    return chi2Cut;
-  }
+  double chi2CutAt(double pt) const;
   /// Minimum number of hits of a built candidate.
   std::uint32_t minHits = 4;
   /// Seeding disc radius, maximum seed-cell length, scale of the cell
@@ -137,6 +143,10 @@ struct FindingStep {
   /// Fit tracks of this step backwards first (upstream KalmanFitBackward).
   bool fitBackward = false;
 };
+
+inline double FindingStep::chi2CutAt(double pt) const {
+  return scaledChi2Cut(chi2Cut, chi2PtScale, pt);
+}
 
 /// Settings of the whole finder plus its steps.
 struct FinderConfig {

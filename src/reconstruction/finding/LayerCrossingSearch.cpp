@@ -1,0 +1,241 @@
+// The machinery shared by the extension units and the hole filling
+// (detail/LayerCrossingSearch.hpp): refits of a growing track, predicted
+// layer crossings, bounded hit windows, the scattering allowance.
+
+#include "conftrack/reconstruction/finding/detail/LayerCrossingSearch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace conftrack::detail {
+
+namespace {
+
+/// Margin around a layer's extent when predicting crossings [mm].
+constexpr double kLayerMargin = 10.0;
+
+}  // namespace
+
+bool LayerCrossingSearch::begin(const TrackCandidate& track,
+                                Chain& chain) const {
+  if (track.hits.size() < 3 || track.helix) {
+    return false;
+  }
+  chain.quadratic = track.uv.quadratic;
+  chain.hits = track.hits;
+  return refit(chain, &track.uv);
+}
+
+bool LayerCrossingSearch::refit(Chain& c,
+                                const ConformalFitResult* frame) const {
+  ConformalFitResult uv = fitConformal(m_hits, c.hits, c.quadratic, frame);
+  if (!uv.valid) {
+    return false;
+  }
+  ArcFrame arc = makeArcFrame(uv, m_hits, c.hits.front());
+  SzFitResult sz = fitSz(m_hits, c.hits, arc);
+  if (!sz.valid) {
+    return false;
+  }
+  c.uv = uv;
+  c.arc = arc;
+  c.sz = sz;
+  return true;
+}
+
+double LayerCrossingSearch::increase(double chi2, int ndf, double delta) {
+  double before = ndf > 0 ? chi2 / ndf : 0.0;
+  return (chi2 + delta) / (ndf + 1) - before;
+}
+
+Scatter LayerCrossingSearch::scatter(const ConformalFitResult& uv,
+                                     const SzFitResult& sz, ConfIndex from,
+                                     ConfIndex to, double ds) const {
+  Scatter out;
+  const SensitiveLayer& layer = m_state.detector.layers()[m_hits.layer[from]];
+  const double secL = norm2(1.0, sz.tanLambda);
+  const double theta0 =
+      layerTheta0(layer, uv.pt(m_state.bzForPt) * secL, sz.tanLambda);
+  const double d = theta0 * std::abs(ds) * secL;  // displacement [mm]
+  const double r2 = m_hits.radius[to] * m_hits.radius[to];
+  out.uv = d * d / (r2 * r2);
+  out.z = d * d * secL * secL;
+  return out;
+}
+
+bool LayerCrossingSearch::onSensorOf(const std::vector<ConfIndex>& hits,
+                                     ConfIndex h) const {
+  for (ConfIndex k : hits) {
+    if (m_hits.sameSensor(k, h)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+const std::vector<ConfIndex>& LayerCrossingSearch::coneWindow(
+    std::uint32_t layer, double phi, double halfWidth,
+    const HitPool::RzCone* cone, const Vector3& at) {
+  m_scratch.window.clear();
+  m_pool.layerWindow(layer, phi, halfWidth, m_scratch.window, cone);
+  limitWindow(at);
+  return m_scratch.window;
+}
+
+const std::vector<ConfIndex>& LayerCrossingSearch::boxWindow(
+    std::uint32_t layer, double phi, double halfWidth, double zLo, double zHi,
+    double rLo, double rHi, const Vector3& at) {
+  m_scratch.window.clear();
+  m_pool.layerBox(layer, phi, halfWidth, zLo, zHi, rLo, rHi, m_scratch.window);
+  limitWindow(at);
+  return m_scratch.window;
+}
+
+void LayerCrossingSearch::limitWindow(const Vector3& at) {
+  std::vector<ConfIndex>& window = m_scratch.window;
+  std::vector<std::pair<double, ConfIndex>>& distances = m_scratch.distances;
+  const std::size_t limit = m_maxWindowHits;
+  if (window.size() <= limit) {
+    return;
+  }
+  m_stats.guard(Guard::eWindowHits).add(window.size() - limit);
+  distances.clear();
+  for (ConfIndex h : window) {
+    const double dx = m_hits.x[h] - at.x();
+    const double dy = m_hits.y[h] - at.y();
+    const double dz = m_hits.z[h] - at.z();
+    distances.emplace_back(dx * dx + dy * dy + dz * dz, h);
+  }
+  std::nth_element(distances.begin(),
+                   distances.begin() + static_cast<std::ptrdiff_t>(limit),
+                   distances.end());
+  window.resize(limit);
+  for (std::size_t k = 0; k < limit; ++k) {
+    window[k] = distances[k].second;
+  }
+}
+
+const std::vector<Prediction>& LayerCrossingSearch::predict(
+    std::uint32_t layer, const ArcFrame& arc, const SzFitResult& sz,
+    double sLast, Direction direction, Branches branches) {
+  std::vector<Prediction>& out = m_scratch.predictions;
+  out.clear();
+  const bool inward = direction == Direction::eInward;
+  const SensitiveLayer& l = m_state.detector.layers()[layer];
+  const double turn = 2.0 * std::numbers::pi * arc.radius;
+  // The arc length of a crossing is known up to whole turns: take the one
+  // just beyond the end hit in the direction of the search.
+  auto after = [&](double s) {
+    if (inward) {
+      while (s >= sLast - 1e-6) {
+        s -= turn;
+      }
+      return s;
+    }
+    while (s <= sLast + 1e-6) {
+      s += turn;
+    }
+    return s;
+  };
+  // Outward, the track ends where its circle first leaves the tracker
+  // (docs/algorithm.md 3.18).
+  double sExit = std::numeric_limits<double>::infinity();
+  if (!inward) {
+    double& ro = m_scratch.outerRadius;
+    if (ro < 0.0) {
+      ro = 0.0;
+      for (const SensitiveLayer& o : m_state.detector.layers()) {
+        ro = std::max(ro, o.isDisk() ? o.rMax : o.r);
+      }
+      ro += kLayerMargin;
+    }
+    const double d = norm2(arc.centreX, arc.centreY);
+    const double rho = arc.radius;
+    if (d > 1e-9 && ro < d + rho && ro > std::abs(d - rho)) {
+      const double a = (ro * ro - rho * rho + d * d) / (2.0 * d);
+      const double h = std::sqrt(std::max(0.0, ro * ro - a * a));
+      const double ex = arc.centreX / d;
+      const double ey = arc.centreY / d;
+      for (int sign : {1, -1}) {
+        sExit = std::min(sExit,
+                         after(arc.arcLength(a * ex - sign * h * ey,
+                                             a * ey + sign * h * ex, sLast)));
+      }
+    }
+  }
+  if (!l.isDisk()) {
+    // Circle (centre C, radius rho) with the cylinder's circle.
+    double cx = arc.centreX;
+    double cy = arc.centreY;
+    double d = norm2(cx, cy);
+    double rho = arc.radius;
+    double rl = l.r;
+    if (d < 1e-9 || rl > d + rho || rl < std::abs(d - rho)) {
+      return out;
+    }
+    double a = (rl * rl - rho * rho + d * d) / (2.0 * d);
+    double h = std::sqrt(std::max(0.0, rl * rl - a * a));
+    double ex = cx / d;
+    double ey = cy / d;
+    for (int sign : {1, -1}) {
+      double px = a * ex - sign * h * ey;
+      double py = a * ey + sign * h * ex;
+      double s = after(arc.arcLength(px, py, sLast));
+      if (s > sExit) {
+        continue;
+      }
+      if (branches == Branches::eOutgoing && std::abs(s - sLast) > 0.5 * turn) {
+        continue;  // the crossing on the way back in
+      }
+      double z = sz.z0 + sz.tanLambda * s;
+      if (z < l.zMin - kLayerMargin || z > l.zMax + kLayerMargin) {
+        continue;
+      }
+      out.push_back({s, std::atan2(py, px)});
+    }
+  } else {
+    if (std::abs(sz.tanLambda) < 1e-9) {
+      return out;
+    }
+    double s = (l.z() - sz.z0) / sz.tanLambda;
+    bool ahead = inward ? s < sLast : s > sLast;
+    if (!ahead || std::abs(s - sLast) > turn || s > sExit) {
+      return out;
+    }
+    Vector2 p = arc.pointAt(s);
+    double r = p.norm();
+    if (r < l.rMin - kLayerMargin || r > l.rMax + kLayerMargin) {
+      return out;
+    }
+    out.push_back({s, std::atan2(p.y(), p.x())});
+  }
+  return out;
+}
+
+void claimHit(FinderState& state, StepStats& stats, ConfIndex h,
+              std::uint32_t t) {
+  state.used[h] = 1;
+  state.clones.addHit(h, t);
+  ++stats.extendedHits;
+}
+
+void storeChain(const FinderState& state, const Chain& chain,
+                TrackCandidate& track) {
+  track.hits = chain.hits;
+  track.uv = chain.uv;
+  track.sz = chain.sz;
+  track.pt = chain.uv.pt(state.bzForPt);
+}
+
+void throwBadKey(std::string_view unit, std::string_view key,
+                 std::string_view what, double value) {
+  throw std::invalid_argument(std::string(unit) + ": key '" + std::string(key) +
+                              "' " + std::string(what) + " (got " +
+                              std::to_string(value) + ")");
+}
+
+}  // namespace conftrack::detail
