@@ -2,6 +2,7 @@
 /// Reconstruction for Python: a configured Reconstruction run on one event
 /// or on many in parallel (the GIL released), and the tables of a result.
 
+#include "conftrack/core/Error.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/evaluation/TrackmlScore.hpp"
 #include "conftrack/frontend/ReconstructionSetup.hpp"
@@ -66,7 +67,13 @@ class Reconstructor {
     std::vector<ResultHandle> results;
     results.reserve(events.size());
     for (const py::handle& hits : events) {
-      results.push_back(convert(hits));
+      try {
+        results.push_back(convert(hits));
+      } catch (const InputError& e) {
+        // Name the event: "events[3]: hits row 12: ...".
+        throw InputError("events[" + std::to_string(results.size()) +
+                         "]: " + e.what());
+      }
     }
     py::gil_scoped_release release;
     forEachIndex(results.size(), threads, [&](std::size_t i) {

@@ -102,3 +102,12 @@ def test_bad_arguments_name_the_key():
         conftrack.reconstruct(hits_of_one_muon(), chain="nochain")
     with pytest.raises(ValueError, match="^evaluate: 1 events but 0 results"):
         conftrack.evaluate(conftrack.simulate("muons"), [])
+
+
+def test_reconstruct_many_names_the_bad_event():
+    hits = hits_of_one_muon()
+    bad = hits.copy()
+    bad.loc[1, "y"] = np.nan
+    with pytest.raises(ValueError,
+                       match=r"^events\[1\]: hits row 1: column 'y'"):
+        conftrack.reconstruct_many([hits, bad], threads=2)
