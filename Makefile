@@ -40,7 +40,7 @@ benchmark: build
 	./$(BUILD_DIR)/benchmarks/conftrack_benchmarks
 
 format:
-	find include src apps tests benchmarks -name '*.[ch]pp' | xargs clang-format -i
+	find include src apps tests benchmarks python/src -name '*.[ch]pp' | xargs clang-format -i
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -11,6 +11,7 @@ packages=(
   libtomlplusplus-dev nlohmann-json3-dev libboost-dev libhepmc3-dev
   zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy
+  python3-dev pybind11-dev python3-pandas python3-pytest
 )
 fuzz_packages=(clang-14 libclang-rt-14-dev)
 if [ "${1:-}" = "--fuzz" ]; then

@@ -1,5 +1,5 @@
 #include "conftrack/core/Error.hpp"
-#include "conftrack/evaluation/EventDisplay.hpp"
+#include "conftrack/frontend/EventDisplay.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
 #include "conftrack/io/TrackFiles.hpp"

@@ -1,6 +1,7 @@
 #include "conftrack/core/Error.hpp"
 #include "conftrack/evaluation/PerformanceCollector.hpp"
 #include "conftrack/evaluation/PerformanceReport.hpp"
+#include "conftrack/frontend/ReportFiles.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
 #include "conftrack/io/TrackFiles.hpp"

@@ -3,8 +3,8 @@
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Units.hpp"
+#include "conftrack/frontend/ReconstructionSetup.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/LayoutFile.hpp"
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -84,17 +84,7 @@ void addSampleOptions(CLI::App& cmd, SampleOptions& o) {
 
 std::shared_ptr<const ModuleLayout> loadModuleLayout(const SampleOptions& o,
                                                      const Detector& detector) {
-  if (!o.moduleLevel) {
-    return nullptr;
-  }
-  const std::filesystem::path file = shippedLayoutFile(detector);
-  if (!std::filesystem::exists(file)) {
-    throw InputError("--module-level: detector " + detector.name() +
-                     " has no layout file " + file.string() +
-                     " (CLICdet and CLD have one)");
-  }
-  return std::make_shared<const ModuleLayout>(
-      readLayoutModules(file, detector));
+  return o.moduleLevel ? loadShippedLayout(detector) : nullptr;
 }
 
 EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {

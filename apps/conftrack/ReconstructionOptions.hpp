@@ -4,6 +4,7 @@
 /// Command-line options of the reconstruction (detector, chain, fit) shared
 /// by reconstruct, run, evaluate and bench.
 
+#include "conftrack/frontend/ReconstructionSetup.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/reconstruction/Reconstruction.hpp"
 
@@ -26,13 +27,9 @@ struct ReconstructionOptions {
 /// Adds --detector, --chain, --no-fit, --fit-pdg.
 void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& options);
 
-/// The sensors on whose planes the fit measures hits read from files
-/// (which carry only their layer's axes), by DetectorId module number: for
-/// the TrackML detector its modules (data/trackml/detectors.csv.gz, whose
-/// module_id the hit files use); for another detector with `moduleLevel`
-/// its shipped layout (the hits of simulate --module-level); else none.
-std::shared_ptr<const ModuleLayout> loadSensorLayout(const Detector& detector,
-                                                     bool moduleLevel);
+/// loadSensorLayout (frontend/ReconstructionSetup.hpp), used unqualified
+/// by the subcommands.
+using conftrack::loadSensorLayout;
 
 /// The Reconstruction configuration for `detector` (reads the chain).
 Reconstruction::Config makeReconstructionConfig(

@@ -1,8 +1,9 @@
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Log.hpp"
-#include "conftrack/evaluation/EventDisplay.hpp"
 #include "conftrack/evaluation/PerformanceCollector.hpp"
 #include "conftrack/evaluation/PerformanceReport.hpp"
+#include "conftrack/frontend/EventDisplay.hpp"
+#include "conftrack/frontend/ReportFiles.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
 

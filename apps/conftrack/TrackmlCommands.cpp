@@ -5,6 +5,7 @@
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/evaluation/SimulationValidation.hpp"
+#include "conftrack/frontend/SubmissionScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"

@@ -25,9 +25,9 @@ std::filesystem::path resolveShippedFile(const std::string& folder,
   }
   fs::path candidate = dataDirectory() / folder / (nameOrPath + ".toml");
   if (!fs::exists(candidate)) {
-    throw InputError(what + " '" + nameOrPath + "': no such shipped " + what +
-                     " (looked for " + candidate.string() +
-                     "); give a path to a TOML file");
+    throw MissingFileError(what + " '" + nameOrPath + "': no such shipped " +
+                           what + " (looked for " + candidate.string() +
+                           "); give a path to a TOML file");
   }
   return candidate;
 }
@@ -36,6 +36,10 @@ std::string readConfigText(const std::filesystem::path& file,
                            const std::string& what) {
   std::ifstream in(file, std::ios::binary);
   if (!in) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec)) {
+      throw MissingFileError(file.string(), "cannot open " + what + " file");
+    }
     throw InputError(file.string(), "cannot open " + what + " file");
   }
   // Read at most one byte more than the limit: a link to /dev/zero or a

@@ -11,29 +11,6 @@
 
 namespace conftrack {
 
-std::vector<std::uint64_t> trackmlLabels(
-    std::size_t nHits, std::span<const std::vector<HitIndex>> tracks) {
-  std::vector<std::uint64_t> labels(nHits, 0);
-  // Owner's length per hit; a hit moves to a strictly longer track only,
-  // so that ties stay with the earlier track.
-  std::vector<std::size_t> ownerLength(nHits, 0);
-  for (std::size_t k = 0; k < tracks.size(); ++k) {
-    const std::size_t length = tracks[k].size();
-    for (HitIndex h : tracks[k]) {
-      if (h >= nHits) {
-        throw std::invalid_argument(
-            "trackmlLabels: track " + std::to_string(k) + " has hit index " +
-            std::to_string(h) + " of " + std::to_string(nHits) + " hits");
-      }
-      if (labels[h] == 0 || length > ownerLength[h]) {
-        labels[h] = k + 1;
-        ownerLength[h] = length;
-      }
-    }
-  }
-  return labels;
-}
-
 std::vector<double> trackmlHitWeights(const Event& event, bool* computed) {
   std::vector<double> weights(event.truth.size());
   double total = 0.0;

@@ -77,6 +77,9 @@ EventFiles EventFiles::locate(const std::filesystem::path& dir,
 
 std::vector<std::uint64_t> listEvents(const std::filesystem::path& dir) {
   std::error_code ec;
+  if (!std::filesystem::exists(dir, ec)) {
+    throw MissingFileError(location(dir.string()), "not a folder");
+  }
   if (!std::filesystem::is_directory(dir, ec)) {
     throw InputError(location(dir.string()), "not a folder");
   }

@@ -44,8 +44,12 @@ std::string readRaw(const std::filesystem::path& file, std::size_t maxBytes) {
   }
   FilePtr f(std::fopen(name.c_str(), "rb"));
   if (!f) {
-    throw InputError(location(name),
-                     std::string("cannot open: ") + std::strerror(errno));
+    const int error = errno;
+    std::string what = std::string("cannot open: ") + std::strerror(error);
+    if (error == ENOENT) {
+      throw MissingFileError(location(name), what);
+    }
+    throw InputError(location(name), what);
   }
   std::string data;
   // The size is only a hint (the file may change underneath, and devices

@@ -58,7 +58,8 @@ std::filesystem::path locate(const std::filesystem::path& dir,
                          gz.filename().string() + " exist: remove one of them");
   }
   if (!hasPlain && !hasGz) {
-    throw InputError(location(plain.string()), "no such file (nor with .gz)");
+    throw MissingFileError(location(plain.string()),
+                           "no such file (nor with .gz)");
   }
   return hasPlain ? plain : gz;
 }

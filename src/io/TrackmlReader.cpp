@@ -5,14 +5,13 @@
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
+#include "conftrack/io/HitRows.hpp"
 #include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -35,32 +34,6 @@ struct VectorColumns {
     return Vector3(csv.getDouble(x) * unit, csv.getDouble(y) * unit,
                    csv.getDouble(z) * unit);
   }
-};
-
-/// Finds the layer of TrackML (volume, layer), remembering the last answer:
-/// hits come grouped by module, so the lookup is almost always a hit.
-class LayerCache {
- public:
-  explicit LayerCache(const Detector& detector) : m_detector(detector) {}
-
-  const SensitiveLayer* find(std::uint32_t volume, std::uint32_t layer) {
-    if (m_last == nullptr || volume != m_volume || layer != m_layer) {
-      auto index = m_detector.findTrackmlLayer(volume, layer);
-      if (!index) {
-        return nullptr;
-      }
-      m_last = &m_detector.layers()[*index];
-      m_volume = volume;
-      m_layer = layer;
-    }
-    return m_last;
-  }
-
- private:
-  const Detector& m_detector;
-  const SensitiveLayer* m_last = nullptr;
-  std::uint32_t m_volume = 0;
-  std::uint32_t m_layer = 0;
 };
 
 /// Maps hit ids to hit indices. TrackML ids run 1..N in file order, which
@@ -99,61 +72,25 @@ class HitIdMap {
   std::unordered_map<std::uint64_t, HitIndex> m_map;
 };
 
-/// Hits closer to the beam line than this are refused: no tracking layer is
-/// there, and the conformal mapping u = x / (x^2 + y^2) would overflow.
-constexpr double kMinHitRadius = 1.0 * units::um;
-
-/// How far a hit may lie from the nominal surface of the layer it claims
-/// (normal to it and beyond its edges). Real modules are staggered and
-/// tilted around the nominal layer: the real TrackML hits lie up to 6.1 mm
-/// from the layers of detectors/trackml.toml, and the module-level
-/// simulation of CLICdet puts the vertex-endcap spiral petals up to 20.7 mm
-/// from their layer's mean z (geometry/LayoutModules.hpp). 25 mm admits
-/// both with a margin and still refuses a hit that names the wrong layer or
-/// none.
-constexpr double kLayerTolerance = 25.0 * units::mm;
-
-std::string millimetres(double value) {
-  std::ostringstream os;
-  os << std::setprecision(6) << value / units::mm << " mm";
-  return os.str();
-}
-
-/// Refuses a hit that lies outside the tracker or away from the layer its
-/// (volume_id, layer_id) names: such a file is corrupt or belongs to
-/// another detector, and reconstruction would silently produce nonsense.
-void checkOnLayer(const CsvReader& csv, const Hit& hit,
-                  const SensitiveLayer& layer, const Detector& detector) {
-  // hypot: x^2 + y^2 overflows for the 1e308 of a corrupt file.
-  const double r = std::hypot(hit.position.x(), hit.position.y());
-  const double z = hit.position.z();
-  const std::string at = "hit_id " + std::to_string(hit.id) +
-                         " at r = " + millimetres(r) +
-                         ", z = " + millimetres(z);
-  if (!(r <= detector.envelopeR() && std::abs(z) <= detector.envelopeZ())) {
-    csv.fail(at + " lies outside the tracker of detector '" + detector.name() +
-             "' (r <= " + millimetres(detector.envelopeR()) +
-             ", |z| <= " + millimetres(detector.envelopeZ()) + ")");
+/// The problems of a hits row, located at the reader's line.
+class CsvRowErrors : public HitRowErrors {
+ public:
+  explicit CsvRowErrors(const CsvReader& csv) : m_csv(csv) {}
+  [[noreturn]] void fail(std::string_view what) const override {
+    m_csv.fail(what);
   }
-  bool on = false;
-  std::string surface;
-  if (layer.isDisk()) {
-    on = std::abs(z - layer.z()) <= kLayerTolerance &&
-         r >= layer.rMin - kLayerTolerance && r <= layer.rMax + kLayerTolerance;
-    surface = "z = " + millimetres(layer.z()) + ", " + millimetres(layer.rMin) +
-              " <= r <= " + millimetres(layer.rMax);
-  } else {
-    on = std::abs(r - layer.r) <= kLayerTolerance &&
-         z >= layer.zMin - kLayerTolerance && z <= layer.zMax + kLayerTolerance;
-    surface =
-        "r = " + millimetres(layer.r) + ", |z| <= " + millimetres(layer.zMax);
+  [[noreturn]] void failField(std::string_view column,
+                              std::string_view what) const override {
+    auto index = m_csv.findColumn(column);
+    if (!index) {
+      m_csv.fail("column '" + std::string(column) + "' " + std::string(what));
+    }
+    m_csv.failField(*index, what);
   }
-  if (!on) {
-    csv.fail(at + " is not on the layer its volume_id/layer_id name (" +
-             layer.name + ": " + surface + ", tolerance " +
-             millimetres(kLayerTolerance) + ")");
-  }
-}
+
+ private:
+  const CsvReader& m_csv;
+};
 
 double nonNegative(const CsvReader& csv, std::size_t column) {
   double value = csv.getDouble(column);
@@ -177,73 +114,24 @@ std::vector<Hit> parseHits(std::string text, const std::string& source,
   const auto cSigmaU = csv.findColumn(c::kSigmaU);
   const auto cSigmaV = csv.findColumn(c::kSigmaV);
 
-  std::optional<LayerCache> layers;
-  if (detector != nullptr) {
-    layers.emplace(*detector);
-  }
+  HitRowBuilder builder(detector);
+  const CsvRowErrors errors(csv);
   std::vector<Hit> hits;
   hits.reserve(csv.estimateRows());
-  // Duplicate ids: while ids run 1, 2, 3, ... they cannot repeat; a set is
-  // built only for files that leave that pattern.
-  bool contiguous = true;
-  std::unordered_set<std::uint64_t> seen;
   while (csv.next()) {
-    Hit& hit = hits.emplace_back();
-    hit.id = csv.getInteger<std::uint64_t>(cId);
-    if (contiguous && hit.id != hits.size()) {
-      contiguous = false;
-      seen.reserve(hits.capacity());
-      for (std::size_t i = 0; i + 1 < hits.size(); ++i) {
-        seen.insert(hits[i].id);
-      }
-    }
-    if (!contiguous && !seen.insert(hit.id).second) {
-      csv.fail("duplicate hit_id " + std::to_string(hit.id));
-    }
-    hit.position = cPos.read(csv, units::mm);
-    if (!(std::hypot(hit.position.x(), hit.position.y()) >= kMinHitRadius)) {
-      csv.fail("hit_id " + std::to_string(hit.id) +
-               " lies on the beam line (sqrt(x^2 + y^2) < 1 um): no tracking "
-               "layer is there and conformal coordinates are undefined");
-    }
-    TrackmlId tid{csv.getInteger<std::uint32_t>(cVolume),
-                  csv.getInteger<std::uint32_t>(cLayer),
-                  csv.getInteger<std::uint32_t>(cModule)};
-    if (layers) {
-      const SensitiveLayer* layer = layers->find(tid.volume, tid.layer);
-      if (layer == nullptr) {
-        csv.fail("(volume_id, layer_id) = (" + std::to_string(tid.volume) +
-                 ", " + std::to_string(tid.layer) +
-                 ") is not a layer of detector '" + detector->name() + "'");
-      }
-      if (static_cast<std::uint64_t>(tid.module) >=
-          static_cast<std::uint64_t>(layer->nPhiModules) * layer->nZModules) {
-        csv.failField(
-            cModule, "exceeds the " +
-                         std::to_string(layer->nPhiModules * layer->nZModules) +
-                         " modules of layer " + layer->name);
-      }
-      checkOnLayer(csv, hit, *layer, *detector);
-      hit.detId = layer->id;
-      hit.detId.module = tid.module;
-      layer->localAxes(hit.position, hit.uAxis, hit.vAxis);
-      hit.sigmaU = layer->sigmaU;
-      hit.sigmaV = layer->sigmaV;
-    } else {
-      auto id = fromTrackml(tid, nullptr);
-      if (!id) {
-        csv.fail(
-            "volume_id/layer_id do not fit 16 bits (needed without a "
-            "detector)");
-      }
-      hit.detId = *id;
-    }
+    HitRow row;
+    row.id = csv.getInteger<std::uint64_t>(cId);
+    row.position = cPos.read(csv, 1.0);
+    row.trackml = {csv.getInteger<std::uint32_t>(cVolume),
+                   csv.getInteger<std::uint32_t>(cLayer),
+                   csv.getInteger<std::uint32_t>(cModule)};
     if (cSigmaU) {
-      hit.sigmaU = nonNegative(csv, *cSigmaU) * units::mm;
+      row.sigmaU = nonNegative(csv, *cSigmaU);
     }
     if (cSigmaV) {
-      hit.sigmaV = nonNegative(csv, *cSigmaV) * units::mm;
+      row.sigmaV = nonNegative(csv, *cSigmaV);
     }
+    hits.push_back(builder.build(row, errors));
   }
   return hits;
 }
@@ -362,7 +250,7 @@ Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,
                 const Detector* detector, const ReadOptions& options) {
   EventFiles files = EventFiles::locate(dir, eventNumber);
   if (!files.hits) {
-    throw InputError(
+    throw MissingFileError(
         location((dir / eventFileName(eventNumber, EventFileKind::eHits, false))
                      .string()),
         "no such file (nor with .gz)");

@@ -20,6 +20,29 @@ constexpr std::string_view kTrackId = "track_id";
 
 }  // namespace
 
+std::vector<std::uint64_t> trackmlLabels(
+    std::size_t nHits, std::span<const std::vector<HitIndex>> tracks) {
+  std::vector<std::uint64_t> labels(nHits, 0);
+  // Owner's length per hit; a hit moves to a strictly longer track only,
+  // so that ties stay with the earlier track.
+  std::vector<std::size_t> ownerLength(nHits, 0);
+  for (std::size_t k = 0; k < tracks.size(); ++k) {
+    const std::size_t length = tracks[k].size();
+    for (HitIndex h : tracks[k]) {
+      if (h >= nHits) {
+        throw std::invalid_argument(
+            "trackmlLabels: track " + std::to_string(k) + " has hit index " +
+            std::to_string(h) + " of " + std::to_string(nHits) + " hits");
+      }
+      if (labels[h] == 0 || length > ownerLength[h]) {
+        labels[h] = k + 1;
+        ownerLength[h] = length;
+      }
+    }
+  }
+  return labels;
+}
+
 std::string submissionFileName(std::uint64_t eventNumber, bool gzip) {
   std::string name = eventFileStem(eventNumber);
   name += "-submission.csv";
@@ -142,7 +165,7 @@ SubmittedEvent readSubmittedEvent(const std::filesystem::path& submissionFile,
                                   std::uint64_t eventNumber) {
   EventFiles files = EventFiles::locate(eventDir, eventNumber);
   if (!files.truth) {
-    throw InputError(
+    throw MissingFileError(
         location((eventDir /
                   eventFileName(eventNumber, EventFileKind::eTruth, false))
                      .string()),
@@ -153,16 +176,6 @@ SubmittedEvent readSubmittedEvent(const std::filesystem::path& submissionFile,
   result.labels =
       readSubmission(submissionFile, result.event.hits, eventNumber);
   return result;
-}
-
-TrackmlScore scoreSubmission(const std::filesystem::path& submissionFile,
-                             const std::filesystem::path& eventDir,
-                             std::uint64_t eventNumber,
-                             const TrackmlScoreConfig& config) {
-  const SubmittedEvent submitted =
-      readSubmittedEvent(submissionFile, eventDir, eventNumber);
-  return scoreTrackml(submitted.event,
-                      std::span<const std::uint64_t>(submitted.labels), config);
 }
 
 }  // namespace conftrack

@@ -1,8 +1,8 @@
 #include "conftrack/simulation/Simulator.hpp"
 
+#include "conftrack/core/PdgTable.hpp"
 #include "conftrack/geometry/MaterialInteractions.hpp"
 #include "conftrack/simulation/HitSmearing.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
 
 #include <Eigen/Geometry>
 

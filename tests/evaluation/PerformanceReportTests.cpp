@@ -2,6 +2,7 @@
 // and the plot script (skipped without python3 + matplotlib).
 
 #include "conftrack/evaluation/PerformanceReport.hpp"
+#include "conftrack/frontend/ReportFiles.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

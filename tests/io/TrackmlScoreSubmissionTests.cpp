@@ -3,6 +3,7 @@
 /// Kaggle events read with the TrackML detector.
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/frontend/SubmissionScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
 #include "conftrack/io/TextFile.hpp"

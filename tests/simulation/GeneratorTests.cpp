@@ -3,6 +3,7 @@
 
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/PdgTable.hpp"
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/simulation/generators/EventComposition.hpp"
@@ -10,7 +11,6 @@
 #include "conftrack/simulation/generators/GeneratorFactory.hpp"
 #include "conftrack/simulation/generators/Kinematics.hpp"
 #include "conftrack/simulation/generators/ParticleGun.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
 #include "conftrack/simulation/generators/TtbarGenerator.hpp"
 
 #include <gtest/gtest.h>

@@ -3,11 +3,11 @@
 // crash the HepMC3 3.1.2 library, units, and the PDG charge table.
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/PdgTable.hpp"
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/simulation/generators/HepMC3Generator.hpp"
 #include "conftrack/simulation/generators/HepMCText.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
 
 #include <gtest/gtest.h>
 #include <zlib.h>

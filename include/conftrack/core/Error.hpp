@@ -21,6 +21,13 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& what) : std::runtime_error(what) {}
 };
 
+/// Bad input that is a missing file or folder (the Python module raises
+/// FileNotFoundError for it; the CLI treats it as any InputError).
+class MissingFileError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// Formats a location "file:line" (line omitted when 0).
 std::string location(std::string_view file, std::size_t line = 0);
 

@@ -1,11 +1,11 @@
 #pragma once
 
 /// @file PerformanceReport.hpp
-/// Output of a PerformanceSummary: summary.json, one CSV per distribution,
-/// a human-readable table, an index.html, and the plots made by
-/// scripts/conftrack_plots.py.
+/// The numbers of a PerformanceSummary as data: summary.json's content and
+/// the human-readable table. The files of a report (summary.json, CSV
+/// files, index.html, plots) are written at the edges, by the CLI and the
+/// Python module (frontend/ReportFiles.hpp):
 ///
-/// Output folder layout (all written by writePerformanceReport()):
 ///   summary.json                      run metadata and headline numbers
 ///   efficiency_vs_{pt,pt_all,theta,phi,vertex_radius,proximity}.csv
 ///   fake_rate_vs_{pt,theta}.csv, duplicate_rate_vs_{pt,theta}.csv
@@ -24,9 +24,9 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <filesystem>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace conftrack {
@@ -67,71 +67,13 @@ struct RunMetadata {
 nlohmann::ordered_json makeSummaryJson(const RunMetadata& metadata,
                                        const PerformanceSummary& summary);
 
-/// Writes makeSummaryJson() to `file` (indented). Throws
-/// std::runtime_error if the file cannot be written.
-void writeSummaryJson(const std::filesystem::path& file,
-                      const RunMetadata& metadata,
-                      const PerformanceSummary& summary);
-
-/// Writes one ratio histogram as CSV; x values are divided by `unit`
-/// (e.g. units::degree to write degrees).
-void writeRatioCsv(const std::filesystem::path& file,
-                   const RatioHistogram& histogram, double unit = 1.0);
-
-/// Writes one count histogram as CSV (low,high,count); x divided by `unit`.
-void writeCountCsv(const std::filesystem::path& file,
-                   const CountHistogram& histogram, double unit = 1.0);
-
-/// Writes every distribution of `summary` into `directory` (see the file
-/// comment); returns the file names written, in writing order.
-std::vector<std::string> writeHistogramCsvs(
-    const std::filesystem::path& directory, const PerformanceSummary& summary);
+/// The rows of the human-readable summary (label, value): the table of
+/// printSummaryTable and of the report's index.html.
+std::vector<std::pair<std::string, std::string>> summaryTableRows(
+    const RunMetadata& metadata, const PerformanceSummary& summary);
 
 /// Prints the headline numbers as an aligned table.
 void printSummaryTable(std::ostream& out, const RunMetadata& metadata,
                        const PerformanceSummary& summary);
-
-/// Writes a plain index.html (the table and links to the CSV files): the
-/// report when the plot script cannot run; the script replaces it.
-void writeIndexHtml(const std::filesystem::path& directory,
-                    const RunMetadata& metadata,
-                    const PerformanceSummary& summary,
-                    const std::vector<std::string>& files);
-
-/// scripts/conftrack_plots.py under the data folder: the CONFTRACK_DATA_DIR
-/// environment variable if set, else the build's CONFTRACK_DATA_DIR.
-std::filesystem::path plotScriptPath();
-
-/// The first of $CONFTRACK_PYTHON, python3 (PATH) and /usr/bin/python3
-/// that can import matplotlib and numpy; empty if none can.
-std::string findPlotInterpreter();
-
-/// What runPlotScript() did.
-struct PlotScriptResult {
-  /// The script ran and exited with 0 (plots and index.html written).
-  bool plotted = false;
-  /// One line for the user.
-  std::string message;
-};
-
-/// Runs `python3 plotScriptPath() directory`. The interpreter is the first
-/// of $CONFTRACK_PYTHON, python3 on the PATH and /usr/bin/python3 that can
-/// import matplotlib and numpy (a python3 on the PATH from pyenv or a venv
-/// often lacks Debian's python3-matplotlib). Without matplotlib the script
-/// still runs (it writes an index.html listing the CSV files); without any
-/// python3 nothing runs. Either way it prints how to get them (apt-get
-/// install python3-matplotlib python3-numpy) to `log` and returns; it never
-/// throws for a missing interpreter, module or script.
-PlotScriptResult runPlotScript(const std::filesystem::path& directory,
-                               std::ostream& log);
-
-/// Writes the whole report into `directory` (created if needed):
-/// summary.json, the CSV files, a plain index.html, then, if `plots`, runs
-/// the plot script (which adds the PNGs and a full index.html). Returns the
-/// plot script's result (plotted = false when `plots` is false).
-PlotScriptResult writePerformanceReport(const std::filesystem::path& directory,
-                                        const RunMetadata& metadata,
-                                        const PerformanceSummary& summary,
-                                        bool plots, std::ostream& log);
 
 }  // namespace conftrack

@@ -10,20 +10,13 @@
 /// track, which is good only if it happens to pass both 50 % criteria.
 
 #include "conftrack/core/Event.hpp"
+#include "conftrack/io/TrackmlSubmission.hpp"
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
 namespace conftrack {
-
-/// Track id per hit for a submission: track k of `tracks` gets id k + 1,
-/// hits on no track 0. A hit on several tracks goes to the one with the
-/// most hits, the earlier one on a tie (the longer track keeps its hits, so
-/// it stays above 50 %). Hit indices out of range throw
-/// std::invalid_argument.
-std::vector<std::uint64_t> trackmlLabels(
-    std::size_t nHits, std::span<const std::vector<HitIndex>> tracks);
 
 /// Selections of the efficiency and fake rate (not of the score).
 struct TrackmlScoreConfig {

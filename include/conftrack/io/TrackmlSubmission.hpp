@@ -4,13 +4,12 @@
 /// TrackML submission files, one per event: `eventNNNNNNNNN-submission.csv`
 /// (optionally `.gz`) with the columns event_id,hit_id,track_id, one row
 /// per hit of the event with its original hit id; track_id 0 for hits on no
-/// track (labels: TrackmlScore.hpp, trackmlLabels). And scoring them
-/// against a truth file.
+/// track (labels: trackmlLabels). Scoring them is the evaluation's
+/// (evaluation/TrackmlScore.hpp; files: frontend/SubmissionScore.hpp).
 
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Types.hpp"
-#include "conftrack/evaluation/TrackmlScore.hpp"
 #include "conftrack/io/TextFile.hpp"
 
 #include <cstdint>
@@ -21,6 +20,14 @@
 #include <vector>
 
 namespace conftrack {
+
+/// Track id per hit for a submission: track k of `tracks` gets id k + 1,
+/// hits on no track 0. A hit on several tracks goes to the one with the
+/// most hits, the earlier one on a tie (the longer track keeps its hits, so
+/// it stays above 50 %). Hit indices out of range throw
+/// std::invalid_argument.
+std::vector<std::uint64_t> trackmlLabels(
+    std::size_t nHits, std::span<const std::vector<HitIndex>> tracks);
 
 /// "event000001001-submission.csv" (with ".gz" if `gzip`); the event number
 /// is zero-padded to 9 digits as the other event files.
@@ -71,14 +78,5 @@ struct SubmittedEvent {
 SubmittedEvent readSubmittedEvent(const std::filesystem::path& submissionFile,
                                   const std::filesystem::path& eventDir,
                                   std::uint64_t eventNumber);
-
-/// Scores `submissionFile` against event `eventNumber` of `eventDir`
-/// (hits, truth and particles files, read without a detector). The truth
-/// file is required; its weight column is used if present, else the
-/// weights are computed from truth and particles (scoreTrackml).
-TrackmlScore scoreSubmission(const std::filesystem::path& submissionFile,
-                             const std::filesystem::path& eventDir,
-                             std::uint64_t eventNumber,
-                             const TrackmlScoreConfig& config = {});
 
 }  // namespace conftrack

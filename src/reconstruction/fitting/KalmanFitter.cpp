@@ -4,6 +4,7 @@
 
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
 
+#include "conftrack/core/PdgTable.hpp"
 #include "conftrack/geometry/ModuleLayout.hpp"
 #include "conftrack/reconstruction/fitting/detail/FitterState.hpp"
 
@@ -31,18 +32,17 @@ constexpr std::uint8_t kUnreachable = 2;  ///< its surface was not reached
 }  // namespace
 
 std::optional<double> massHypothesis(std::int32_t pdg) {
-  // Widened before the sign flip: -INT32_MIN does not fit an int32.
-  switch (std::abs(static_cast<std::int64_t>(pdg))) {
-    case 11:
-      return constants::kElectronMass;
-    case 13:
-      return constants::kMuonMass;
-    case 211:
-      return constants::kPionMass;
-    case 321:
-      return constants::kKaonMass;
-    case 2212:
-      return constants::kProtonMass;
+  // The charged, long-lived particles a track can be; their masses come
+  // from the particle table. Widened before the sign flip: -INT32_MIN does
+  // not fit an int32.
+  const std::int64_t code = std::abs(static_cast<std::int64_t>(pdg));
+  switch (code) {
+    case pdg::kElectron:
+    case pdg::kMuon:
+    case pdg::kPiPlus:
+    case pdg::kKPlus:
+    case pdg::kProton:
+      return pdg::mass(static_cast<std::int32_t>(code));
     default:
       return std::nullopt;
   }

@@ -1,8 +1,8 @@
 #include "conftrack/simulation/generators/HepMC3Generator.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/PdgTable.hpp"
 #include "conftrack/core/Units.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
 
 #include <HepMC3/GenEvent.h>
 #include <HepMC3/GenParticle.h>

@@ -825,7 +825,7 @@ std::string loadFile(const std::filesystem::path& path, std::size_t maxBytes) {
   const std::string source = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
-    throw InputError(source, "no such file");
+    throw MissingFileError(source, "no such file");
   }
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(source, "not a regular file");

@@ -1,7 +1,7 @@
 #include "conftrack/simulation/generators/TtbarGenerator.hpp"
 
 #include "conftrack/core/Error.hpp"
-#include "conftrack/simulation/generators/PdgTable.hpp"
+#include "conftrack/core/PdgTable.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "conftrack/simulation/generators/PdgTable.hpp"
+#include "conftrack/core/PdgTable.hpp"
 
 #include "conftrack/core/Units.hpp"
 

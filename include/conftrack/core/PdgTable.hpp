@@ -2,7 +2,8 @@
 
 /// @file PdgTable.hpp
 /// Charges and masses of particles by PDG Monte Carlo code, for the
-/// generators and the HepMC reader.
+/// generators, the HepMC reader and the fit's mass hypotheses: the one
+/// particle table of conftrack.
 
 #include <cstdint>
 #include <optional>

@@ -1,7 +1,7 @@
-#include "conftrack/evaluation/EventDisplay.hpp"
+#include "conftrack/frontend/EventDisplay.hpp"
 
 #include "conftrack/core/Error.hpp"
-#include "conftrack/evaluation/PerformanceReport.hpp"
+#include "conftrack/frontend/ReportFiles.hpp"
 
 #include <cstdlib>
 #include <fstream>
