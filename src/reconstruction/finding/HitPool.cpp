@@ -331,16 +331,37 @@ bool containsOrigin(const Vector2 (&tri)[3]) {
   return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
 }
 
+/// A search triangle with what annulusWindow() needs of it that does not
+/// depend on the annulus, computed once per search instead of once per
+/// layer (the same expressions, so the same values).
+struct Triangle {
+  explicit Triangle(const Vector2 (&t)[3]) : origin(containsOrigin(t)) {
+    for (int k = 0; k < 3; ++k) {
+      p0[k] = t[k];
+      norm[k] = t[k].norm();
+      d[k] = t[(k + 1) % 3] - t[k];
+      aa[k] = d[k].squaredNorm();
+      bb[k] = 2.0 * p0[k].dot(d[k]);
+      p0Sq[k] = p0[k].squaredNorm();
+    }
+  }
+  bool origin;
+  Vector2 p0[3];
+  double norm[3];
+  Vector2 d[3];
+  double aa[3], bb[3], p0Sq[3];
+};
+
 /// Azimuth window of the part of triangle (a, b, c) between the circles of
 /// radius rhoMin and rhoMax around the origin. Returns false if they do not
 /// meet; halfWidth >= pi if the triangle contains the origin. The azimuth is
 /// monotonic along a segment that misses the origin and along an arc, so
 /// its extremes lie at corners: triangle vertices inside the annulus and
 /// edge-circle intersections.
-bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
+bool annulusWindow(const Triangle& tri, double rhoMin, double rhoMax,
                    double& centre, double& halfWidth) {
   // Origin inside the triangle: every azimuth.
-  if (containsOrigin(tri)) {
+  if (tri.origin) {
     centre = 0.0;
     halfWidth = kTwoPi;
     return true;
@@ -366,19 +387,19 @@ bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
     }
   };
   for (int k = 0; k < 3; ++k) {
-    double r = tri[k].norm();
+    double r = tri.norm[k];
     if (r >= rhoMin && r <= rhoMax) {
-      corner(tri[k]);
+      corner(tri.p0[k]);
     }
-    const Vector2& p0 = tri[k];
-    Vector2 d = tri[(k + 1) % 3] - p0;
-    double aa = d.squaredNorm();
+    const Vector2& p0 = tri.p0[k];
+    const Vector2& d = tri.d[k];
+    double aa = tri.aa[k];
     if (!(aa > 0.0)) {
       continue;
     }
-    double bb = 2.0 * p0.dot(d);
+    double bb = tri.bb[k];
     for (double rho : {rhoMin, rhoMax}) {
-      double cc = p0.squaredNorm() - rho * rho;
+      double cc = tri.p0Sq[k] - rho * rho;
       double disc = bb * bb - 4.0 * aa * cc;
       if (disc < 0.0) {
         continue;
@@ -433,6 +454,7 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
   Vector2 left(du * c - dv * s, du * s + dv * c);
   Vector2 right(du * c + dv * s, -du * s + dv * c);
   const Vector2 tri[3] = {apex, apex + len * left, apex + len * right};
+  const Triangle triangle(tri);
   const double r2 = discRadius * discRadius;
   const double cosCut = c;
   // The margin covers the approximate arctangent of the window corners.
@@ -455,7 +477,7 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
       const double t = ee > 0.0 ? std::clamp(-a.dot(e) / ee, 0.0, 1.0) : 0.0;
       triLow = std::min(triLow, (a + t * e).norm());
     }
-    if (containsOrigin(tri)) {
+    if (triangle.origin) {
       triLow = 0.0;
     }
     rcLow = std::max(rcLow, triLow - 1e-12);
@@ -484,8 +506,8 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
     }
     double centre = 0.0;
     double half = 0.0;
-    if (!annulusWindow(tri, m_layerRc[k].first, m_layerRc[k].second, centre,
-                       half)) {
+    if (!annulusWindow(triangle, m_layerRc[k].first, m_layerRc[k].second,
+                       centre, half)) {
       continue;
     }
     std::size_t before = out.size();
