@@ -8,6 +8,7 @@
 //   the 10 ns window, ten events taken in turn (one per iteration).
 
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
 
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <tuple>
 #include <vector>
@@ -100,5 +102,33 @@ BENCHMARK(findTtbarReadout)
     ->Arg(60)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(3.0);
+
+}  // namespace
+
+namespace {
+
+/// The whole TrackML chain on real Kaggle event 1001 (93,680 hits), as
+/// `reconstruct --detector trackml --no-fit` runs it: the issue 15 target
+/// (about 90 % of its finding time is the pixel builds' automaton and the
+/// HitPool searches under it).
+void findTrackmlReal(benchmark::State& state) {
+  static const Detector det = loadDetector("trackml");
+  const std::vector<Hit> hits =
+      readHits(std::filesystem::path(CONFTRACK_TEST_DATA_DIR) /
+                   "trackml/train_100_events_no_truth/"
+                   "event000001001-hits.csv.gz",
+               &det);
+  ConformalTrackFinder finder(det,
+                              {readChain(resolveChainPath("trackml"), det)});
+  std::size_t tracks = 0;
+  for (auto _ : state) {
+    FindingResult r = finder.run(hits);
+    tracks = r.tracks.size();
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["hits"] = static_cast<double>(hits.size());
+  state.counters["tracks"] = static_cast<double>(tracks);
+}
+BENCHMARK(findTrackmlReal)->Unit(benchmark::kMillisecond);
 
 }  // namespace

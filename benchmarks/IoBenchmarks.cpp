@@ -2,6 +2,7 @@
 /// Throughput of the TrackML CSV reader and writer on a real Kaggle event
 /// (event 1001: 93,680 hits).
 
+#include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
@@ -31,6 +32,21 @@ void BM_ReadTrackmlHitsGz(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
 }
 BENCHMARK(BM_ReadTrackmlHitsGz)->Unit(benchmark::kMillisecond);
+
+/// As above with the TrackML detector: each hit is also checked against
+/// the layer it names, as `reconstruct --detector trackml` reads it.
+void BM_ReadTrackmlHitsGzDetector(benchmark::State& state) {
+  const conftrack::Detector detector = conftrack::loadDetector("trackml");
+  std::size_t n = 0;
+  for (auto _ : state) {
+    auto hits = conftrack::readHits(kHits, &detector);
+    n = hits.size();
+    benchmark::DoNotOptimize(hits.data());
+  }
+  state.counters["hits"] = static_cast<double>(n);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
+}
+BENCHMARK(BM_ReadTrackmlHitsGzDetector)->Unit(benchmark::kMillisecond);
 
 /// Decompression alone, to separate zlib from parsing.
 void BM_GunzipTrackmlHits(benchmark::State& state) {

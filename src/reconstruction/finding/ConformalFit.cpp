@@ -110,10 +110,11 @@ ConformalFitResult fitConformal(const ConformalHits& hits,
     r.sinA = dv / norm;
   }
 
-  // Small fixed-size buffers: tracks have tens of hits at most, but keep
-  // it general with a vector for long loopers.
-  std::vector<FramePoint> pts;
-  pts.reserve(track.size());
+  // A scratch buffer per thread: the finder fits hundreds of thousands of
+  // short paths per event, and a fresh vector per fit cost an allocation
+  // each (the fit does not call itself).
+  thread_local std::vector<FramePoint> pts;
+  pts.clear();
   for (ConfIndex i : track) {
     pts.push_back(toFrame(hits, i, r.cosA, r.sinA));
   }
@@ -245,7 +246,9 @@ SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
   if (n < 2) {
     return r;
   }
-  std::vector<double> s(track.size());
+  // Per-thread scratch, as in fitConformal.
+  thread_local std::vector<double> s;
+  s.resize(track.size());
   double prev = 0.0;
   for (std::size_t k = 0; k < track.size(); ++k) {
     ConfIndex i = track[k];

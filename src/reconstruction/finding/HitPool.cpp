@@ -171,6 +171,14 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
     }
     m_layerBins.push_back(b);
   }
+  m_box = {std::numeric_limits<double>::infinity(),
+           -std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity(),
+           -std::numeric_limits<double>::infinity()};
+  for (const LayerBins& b : m_layerBins) {
+    m_box = {std::min(m_box.zMin, b.zMin), std::max(m_box.zMax, b.zMax),
+             std::min(m_box.rMin, b.rMin), std::max(m_box.rMax, b.rMax)};
+  }
 }
 
 std::uint32_t HitPool::LayerBins::binOf(double w) const {
@@ -182,142 +190,6 @@ std::uint32_t HitPool::LayerBins::binOf(double w) const {
     return 0;
   }
   return x >= nBins - 1 ? nBins - 1 : static_cast<std::uint32_t>(x);
-}
-
-HitPool::PreparedRz::PreparedRz(const RzCone& rz) : cone(rz) {
-  // A margin on the angle: members passing the caller's exact angle cut
-  // must not be lost to rounding.
-  const double a = rz.halfAngle + 1e-9;
-  if (!(a < 0.5 * std::numbers::pi)) {
-    unbounded = true;
-    return;
-  }
-  // The edges: the axis rotated by -a and +a.
-  thread_local TrigCache trig;
-  trig.update(a);
-  const double cosA = trig.cos;
-  const double sinA = trig.sin;
-  const double norm = std::sqrt(rz.dz * rz.dz + rz.dr * rz.dr);
-  const double cz = norm > 0.0 ? rz.dz / norm : 0.0;
-  const double cr = norm > 0.0 ? rz.dr / norm : 1.0;
-  edgeZ[0] = cz * cosA + cr * sinA;
-  edgeR[0] = cr * cosA - cz * sinA;
-  edgeZ[1] = cz * cosA - cr * sinA;
-  edgeR[1] = cr * cosA + cz * sinA;
-  for (int e = 0; e < 2; ++e) {
-    dzdr[e] = edgeR[e] != 0.0 ? edgeZ[e] / edgeR[e] : 0.0;
-    drdz[e] = edgeZ[e] != 0.0 ? edgeR[e] / edgeZ[e] : 0.0;
-  }
-}
-
-bool HitPool::rzRange(const PreparedRz& p, const LayerBins& b, double& wLo,
-                      double& wHi) {
-  if (p.unbounded) {
-    wLo = -std::numeric_limits<double>::infinity();
-    wHi = std::numeric_limits<double>::infinity();
-    return true;
-  }
-  const RzCone& rz = p.cone;
-  // Closed form when the layer lies across the cone's path: both edges run
-  // towards the layer's band of its short coordinate (R of a barrel layer,
-  // z of a disk) from an apex outside it. The cone within the band is then
-  // a trapezoid whose extent in w runs between the edges' w at the band's
-  // two borders, clipped to the layer.
-  {
-    // u: the short coordinate, w: the long one.
-    const double u0 = b.alongZ ? rz.r : rz.z;
-    const double w0 = b.alongZ ? rz.z : rz.r;
-    const double* du = b.alongZ ? p.edgeR : p.edgeZ;
-    const double* slope = b.alongZ ? p.dzdr : p.drdz;
-    const double uLo = b.alongZ ? b.rMin : b.zMin;
-    const double uHi = b.alongZ ? b.rMax : b.zMax;
-    const bool below = u0 < uLo && du[0] > 0.0 && du[1] > 0.0;
-    const bool above = u0 > uHi && du[0] < 0.0 && du[1] < 0.0;
-    if (below || above) {
-      const double w00 = w0 + (uLo - u0) * slope[0];
-      const double w01 = w0 + (uHi - u0) * slope[0];
-      const double w10 = w0 + (uLo - u0) * slope[1];
-      const double w11 = w0 + (uHi - u0) * slope[1];
-      const double lo = std::min(std::min(w00, w01), std::min(w10, w11));
-      const double hi = std::max(std::max(w00, w01), std::max(w10, w11));
-      const double wMinLayer = b.alongZ ? b.zMin : b.rMin;
-      const double wMaxLayer = b.alongZ ? b.zMax : b.rMax;
-      if (hi < wMinLayer || lo > wMaxLayer) {
-        return false;
-      }
-      wLo = std::max(lo, wMinLayer);
-      wHi = std::min(hi, wMaxLayer);
-      const double margin =
-          1e-6 * (1.0 + std::max(std::abs(wLo), std::abs(wHi)));
-      wLo -= margin;
-      wHi += margin;
-      return true;
-    }
-  }
-  // The cone is convex: the extremes of w over its intersection with the
-  // layer's (z, R) box lie at vertices of that polygon, i.e. box corners
-  // inside the cone, intersections of the cone's edges with the box's
-  // edges, and the apex if inside the box.
-  wLo = std::numeric_limits<double>::infinity();
-  wHi = -wLo;
-  auto add = [&](double z, double r) {
-    double w = b.alongZ ? z : r;
-    wLo = std::min(wLo, w);
-    wHi = std::max(wHi, w);
-  };
-  // The cone (half-angle below pi/2) is the intersection of the half-planes
-  // left of its first edge and right of its second. Box corners: inside
-  // both, or a quick rejection if all lie outside one of them.
-  int outside1 = 0;
-  int outside2 = 0;
-  for (double z : {b.zMin, b.zMax}) {
-    for (double r : {b.rMin, b.rMax}) {
-      double pz = z - rz.z;
-      double pr = r - rz.r;
-      bool in1 = p.edgeZ[0] * pr - p.edgeR[0] * pz >= 0.0;
-      bool in2 = pz * p.edgeR[1] - pr * p.edgeZ[1] >= 0.0;
-      outside1 += in1 ? 0 : 1;
-      outside2 += in2 ? 0 : 1;
-      if (in1 && in2) {
-        add(z, r);
-      }
-    }
-  }
-  if (outside1 == 4 || outside2 == 4) {
-    return false;
-  }
-  if (rz.z >= b.zMin && rz.z <= b.zMax && rz.r >= b.rMin && rz.r <= b.rMax) {
-    add(rz.z, rz.r);
-  }
-  for (int e = 0; e < 2; ++e) {
-    const double ez = p.edgeZ[e];
-    const double er = p.edgeR[e];
-    if (ez != 0.0) {
-      for (double z : {b.zMin, b.zMax}) {
-        double t = (z - rz.z) / ez;
-        double r = rz.r + t * er;
-        if (t >= 0.0 && r >= b.rMin && r <= b.rMax) {
-          add(z, r);
-        }
-      }
-    }
-    if (er != 0.0) {
-      for (double r : {b.rMin, b.rMax}) {
-        double t = (r - rz.r) / er;
-        double z = rz.z + t * ez;
-        if (t >= 0.0 && z >= b.zMin && z <= b.zMax) {
-          add(z, r);
-        }
-      }
-    }
-  }
-  if (wLo > wHi) {
-    return false;
-  }
-  const double margin = 1e-6 * (1.0 + std::max(std::abs(wLo), std::abs(wHi)));
-  wLo -= margin;
-  wHi += margin;
-  return true;
 }
 
 HitPool::~HitPool() = default;
@@ -364,8 +236,11 @@ void HitPool::discWindow(double u, double v, double radius, double phi,
   std::vector<std::pair<ConfIndex, double>> found;
   std::vector<ConfIndex> window;
   std::optional<PreparedRz> prepared;
+  RzBox rzBox{};
+  bool useReach = false;
   if (rz != nullptr) {
     prepared.emplace(*rz);
+    useReach = rzReach(*prepared, m_box, rzBox);
   }
   for (std::size_t k = 0; k < m_layers.size(); ++k) {
     // A member within the disc has |rc_h - rc| < radius (margin for
@@ -373,6 +248,9 @@ void HitPool::discWindow(double u, double v, double radius, double phi,
     if (m_layerRc[k].second < rc - radius - 1e-12 ||
         m_layerRc[k].first > rc + radius + 1e-12) {
       continue;
+    }
+    if (useReach && !rzBox.overlaps(m_layerBins[k])) {
+      continue;  // outside the (z, R) cone: rzRange() would refuse it
     }
     window.clear();
     const double half = all ? 2.0 * std::numbers::pi : halfWidth + 1e-9;
@@ -453,16 +331,37 @@ bool containsOrigin(const Vector2 (&tri)[3]) {
   return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
 }
 
+/// A search triangle with what annulusWindow() needs of it that does not
+/// depend on the annulus, computed once per search instead of once per
+/// layer (the same expressions, so the same values).
+struct Triangle {
+  explicit Triangle(const Vector2 (&t)[3]) : origin(containsOrigin(t)) {
+    for (int k = 0; k < 3; ++k) {
+      p0[k] = t[k];
+      norm[k] = t[k].norm();
+      d[k] = t[(k + 1) % 3] - t[k];
+      aa[k] = d[k].squaredNorm();
+      bb[k] = 2.0 * p0[k].dot(d[k]);
+      p0Sq[k] = p0[k].squaredNorm();
+    }
+  }
+  bool origin;
+  Vector2 p0[3];
+  double norm[3];
+  Vector2 d[3];
+  double aa[3], bb[3], p0Sq[3];
+};
+
 /// Azimuth window of the part of triangle (a, b, c) between the circles of
 /// radius rhoMin and rhoMax around the origin. Returns false if they do not
 /// meet; halfWidth >= pi if the triangle contains the origin. The azimuth is
 /// monotonic along a segment that misses the origin and along an arc, so
 /// its extremes lie at corners: triangle vertices inside the annulus and
 /// edge-circle intersections.
-bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
+bool annulusWindow(const Triangle& tri, double rhoMin, double rhoMax,
                    double& centre, double& halfWidth) {
   // Origin inside the triangle: every azimuth.
-  if (containsOrigin(tri)) {
+  if (tri.origin) {
     centre = 0.0;
     halfWidth = kTwoPi;
     return true;
@@ -488,19 +387,19 @@ bool annulusWindow(const Vector2 (&tri)[3], double rhoMin, double rhoMax,
     }
   };
   for (int k = 0; k < 3; ++k) {
-    double r = tri[k].norm();
+    double r = tri.norm[k];
     if (r >= rhoMin && r <= rhoMax) {
-      corner(tri[k]);
+      corner(tri.p0[k]);
     }
-    const Vector2& p0 = tri[k];
-    Vector2 d = tri[(k + 1) % 3] - p0;
-    double aa = d.squaredNorm();
+    const Vector2& p0 = tri.p0[k];
+    const Vector2& d = tri.d[k];
+    double aa = tri.aa[k];
     if (!(aa > 0.0)) {
       continue;
     }
-    double bb = 2.0 * p0.dot(d);
+    double bb = tri.bb[k];
     for (double rho : {rhoMin, rhoMax}) {
-      double cc = p0.squaredNorm() - rho * rho;
+      double cc = tri.p0Sq[k] - rho * rho;
       double disc = bb * bb - 4.0 * aa * cc;
       if (disc < 0.0) {
         continue;
@@ -555,6 +454,7 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
   Vector2 left(du * c - dv * s, du * s + dv * c);
   Vector2 right(du * c + dv * s, -du * s + dv * c);
   const Vector2 tri[3] = {apex, apex + len * left, apex + len * right};
+  const Triangle triangle(tri);
   const double r2 = discRadius * discRadius;
   const double cosCut = c;
   // The margin covers the approximate arctangent of the window corners.
@@ -577,19 +477,25 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
       const double t = ee > 0.0 ? std::clamp(-a.dot(e) / ee, 0.0, 1.0) : 0.0;
       triLow = std::min(triLow, (a + t * e).norm());
     }
-    if (containsOrigin(tri)) {
+    if (triangle.origin) {
       triLow = 0.0;
     }
     rcLow = std::max(rcLow, triLow - 1e-12);
     rcHigh = std::min(rcHigh, triHigh + 1e-12);
   }
   std::optional<PreparedRz> prepared;
+  RzBox rzBox{};
+  bool useReach = false;
   if (rz != nullptr) {
     prepared.emplace(*rz);
+    useReach = rzReach(*prepared, m_box, rzBox);
   }
   for (std::size_t k = 0; k < m_layers.size(); ++k) {
     if (m_layerRc[k].second < rcLow || m_layerRc[k].first > rcHigh) {
       continue;
+    }
+    if (useReach && !rzBox.overlaps(m_layerBins[k])) {
+      continue;  // outside the (z, R) cone: rzRange() would refuse it
     }
     // The (z, R) cone first: it skips most layers of a long barrel or of
     // many disks at once.
@@ -600,8 +506,8 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
     }
     double centre = 0.0;
     double half = 0.0;
-    if (!annulusWindow(tri, m_layerRc[k].first, m_layerRc[k].second, centre,
-                       half)) {
+    if (!annulusWindow(triangle, m_layerRc[k].first, m_layerRc[k].second,
+                       centre, half)) {
       continue;
     }
     std::size_t before = out.size();

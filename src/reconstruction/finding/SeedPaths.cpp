@@ -162,8 +162,8 @@ void SeedAutomaton::straightestPath(std::uint32_t leaf,
 void SeedAutomaton::evaluate(std::vector<TrackCandidate>& candidates) {
   ++m_stats.paths;
   // Hits in seed-to-leaf order.
-  std::vector<ConfIndex> chain;
-  chain.reserve(m_path.size() + 1);
+  std::vector<ConfIndex>& chain = m_chain;
+  chain.clear();
   chain.push_back(cell(m_path.front()).start);
   for (std::uint32_t c : m_path) {
     chain.push_back(cell(c).end);
@@ -178,12 +178,14 @@ void SeedAutomaton::evaluate(std::vector<TrackCandidate>& candidates) {
       // Fits and extensions work along the particle's path: inner first.
       std::reverse(hits.begin(), hits.end());
     }
-    if (fitCandidate(m_state, m_step, hits, cand)) {
+    // The hits move into the candidate, and stay there if the fit fails.
+    if (fitCandidate(m_state, m_step, std::move(hits), cand)) {
       candidates.push_back(std::move(cand));
       ++m_stats.candidates;
       return;
     }
-    if (len == chain.size() && m_step.recovery && recover(hits, candidates)) {
+    if (len == chain.size() && m_step.recovery &&
+        recover(cand.hits, candidates)) {
       return;
     }
   }

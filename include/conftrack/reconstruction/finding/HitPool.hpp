@@ -124,6 +124,22 @@ class HitPool {
   /// Range of w of the layer's part inside `rz`; false if none.
   static bool rzRange(const PreparedRz& rz, const LayerBins& bins, double& wLo,
                       double& wHi);
+  /// A box in (z, R).
+  struct RzBox {
+    double zMin, zMax, rMin, rMax;
+    bool overlaps(const LayerBins& b) const {
+      return b.zMax >= zMin && b.zMin <= zMax && b.rMax >= rMin &&
+             b.rMin <= rMax;
+    }
+  };
+  /// The (z, R) bounding box of the part of `rz` inside `box`, widened by
+  /// a margin; false if there is none to use (unbounded cone, or no part).
+  /// A layer whose box misses it misses the cone: rzRange() would refuse
+  /// it, at several times the cost of this test (most layers of a search
+  /// are refused so, e.g. the disks for a barrel track).
+  static bool rzReach(const PreparedRz& rz, const RzBox& box, RzBox& out);
+  /// The (z, R) box of all members.
+  RzBox m_box{0.0, 0.0, 0.0, 0.0};
   /// Appends the members of layer k (index into m_layers) within the
   /// azimuth window whose long coordinate w may lie in [wLo, wHi] (a
   /// superset: whole bins, or the exact range).

@@ -153,6 +153,7 @@ class SeedAutomaton {
   std::vector<std::uint32_t> m_leaves;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_stack;
   std::vector<std::uint32_t> m_path;
+  std::vector<ConfIndex> m_chain;  // evaluate(): the path's hits
 };
 
 }  // namespace conftrack::detail
