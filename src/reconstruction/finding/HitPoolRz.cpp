@@ -3,6 +3,7 @@
 // pool (rzReach), the cheap test that refuses most layers first.
 
 #include "conftrack/reconstruction/finding/HitPool.hpp"
+#include "conftrack/reconstruction/finding/detail/PhiWindow.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,23 +11,6 @@
 #include <numbers>
 
 namespace conftrack {
-
-namespace {
-/// Cosine and sine of an angle, recomputed only when it changes: most
-/// searches use one half-angle throughout (one cache per thread).
-struct TrigCache {
-  double angle = 0.0;
-  double cos = 1.0;
-  double sin = 0.0;
-  void update(double a) {
-    if (a != angle) {
-      angle = a;
-      cos = std::cos(a);
-      sin = std::sin(a);
-    }
-  }
-};
-}  // namespace
 
 HitPool::PreparedRz::PreparedRz(const RzCone& rz) : cone(rz) {
   // A margin on the angle: members passing the caller's exact angle cut
@@ -37,7 +21,7 @@ HitPool::PreparedRz::PreparedRz(const RzCone& rz) : cone(rz) {
     return;
   }
   // The edges: the axis rotated by -a and +a.
-  thread_local TrigCache trig;
+  thread_local detail::TrigCache trig;
   trig.update(a);
   const double cosA = trig.cos;
   const double sinA = trig.sin;
