@@ -195,11 +195,7 @@ void HitPool::discWindow(double u, double v, double radius, double phi,
   std::vector<ConfIndex> window;
   std::optional<PreparedRz> prepared;
   RzBox rzBox{};
-  bool useReach = false;
-  if (rz != nullptr) {
-    prepared.emplace(*rz);
-    useReach = rzReach(*prepared, m_box, rzBox);
-  }
+  const bool useReach = prepareReach(rz, prepared, rzBox);
   for (std::size_t k = 0; k < m_layers.size(); ++k) {
     // A member within the disc has |rc_h - rc| < radius (margin for
     // rounding).

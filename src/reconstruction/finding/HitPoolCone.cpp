@@ -213,11 +213,7 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
   }
   std::optional<PreparedRz> prepared;
   RzBox rzBox{};
-  bool useReach = false;
-  if (rz != nullptr) {
-    prepared.emplace(*rz);
-    useReach = rzReach(*prepared, m_box, rzBox);
-  }
+  const bool useReach = prepareReach(rz, prepared, rzBox);
   for (std::size_t k = 0; k < m_layers.size(); ++k) {
     if (m_layerRc[k].second < rcLow || m_layerRc[k].first > rcHigh) {
       continue;

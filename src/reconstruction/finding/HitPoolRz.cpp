@@ -217,4 +217,14 @@ bool HitPool::rzReach(const PreparedRz& p, const RzBox& b, RzBox& out) {
   return true;
 }
 
+bool HitPool::prepareReach(const RzCone* rz,
+                           std::optional<PreparedRz>& prepared,
+                           RzBox& reach) const {
+  if (rz == nullptr) {
+    return false;
+  }
+  prepared.emplace(*rz);
+  return rzReach(*prepared, m_box, reach);
+}
+
 }  // namespace conftrack

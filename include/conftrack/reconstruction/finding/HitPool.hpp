@@ -11,6 +11,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace conftrack {
@@ -138,6 +139,11 @@ class HitPool {
   /// it, at several times the cost of this test (most layers of a search
   /// are refused so, e.g. the disks for a barrel track).
   static bool rzReach(const PreparedRz& rz, const RzBox& box, RzBox& out);
+  /// With a (z, R) cone `rz` (null: none): prepares it into `prepared` and
+  /// the box of its reach in the pool into `reach`; true if layers outside
+  /// that box can be refused.
+  bool prepareReach(const RzCone* rz, std::optional<PreparedRz>& prepared,
+                    RzBox& reach) const;
   /// The (z, R) box of all members.
   RzBox m_box{0.0, 0.0, 0.0, 0.0};
   /// Appends the members of layer k (index into m_layers) within the
