@@ -12,6 +12,68 @@
 
 namespace conftrack {
 
+namespace {
+
+/// Passes to add(z, r) the vertices of the convex polygon where the (z, R)
+/// cone `p` (a HitPool::PreparedRz) meets the box `b` (zMin, zMax, rMin,
+/// rMax): the box corners inside the cone, the apex if inside the box, and
+/// the crossings of the cone's edges with the box's sides; inside tests
+/// with tolerance `tol`. The cone (half-angle below pi/2) is the
+/// intersection of the half-planes left of its first edge and right of its
+/// second: false, before any other vertex, if all four corners lie outside
+/// one of them (the polygon is empty).
+template <class Prepared, class Box, class Add>
+bool coneBoxVertices(const Prepared& p, const Box& b, double tol, Add&& add) {
+  const auto& rz = p.cone;
+  int outside1 = 0;
+  int outside2 = 0;
+  for (double z : {b.zMin, b.zMax}) {
+    for (double r : {b.rMin, b.rMax}) {
+      const double pz = z - rz.z;
+      const double pr = r - rz.r;
+      const bool in1 = p.edgeZ[0] * pr - p.edgeR[0] * pz >= -tol;
+      const bool in2 = pz * p.edgeR[1] - pr * p.edgeZ[1] >= -tol;
+      outside1 += in1 ? 0 : 1;
+      outside2 += in2 ? 0 : 1;
+      if (in1 && in2) {
+        add(z, r);
+      }
+    }
+  }
+  if (outside1 == 4 || outside2 == 4) {
+    return false;
+  }
+  if (rz.z >= b.zMin - tol && rz.z <= b.zMax + tol && rz.r >= b.rMin - tol &&
+      rz.r <= b.rMax + tol) {
+    add(rz.z, rz.r);
+  }
+  for (int e = 0; e < 2; ++e) {
+    const double ez = p.edgeZ[e];
+    const double er = p.edgeR[e];
+    if (ez != 0.0) {
+      for (double z : {b.zMin, b.zMax}) {
+        const double t = (z - rz.z) / ez;
+        const double r = rz.r + t * er;
+        if (t >= -tol && r >= b.rMin - tol && r <= b.rMax + tol) {
+          add(z, r);
+        }
+      }
+    }
+    if (er != 0.0) {
+      for (double r : {b.rMin, b.rMax}) {
+        const double t = (r - rz.r) / er;
+        const double z = rz.z + t * ez;
+        if (t >= -tol && z >= b.zMin - tol && z <= b.zMax + tol) {
+          add(z, r);
+        }
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 HitPool::PreparedRz::PreparedRz(const RzCone& rz) : cone(rz) {
   // A margin on the angle: members passing the caller's exact angle cut
   // must not be lost to rounding.
@@ -93,51 +155,8 @@ bool HitPool::rzRange(const PreparedRz& p, const LayerBins& b, double& wLo,
     wLo = std::min(wLo, w);
     wHi = std::max(wHi, w);
   };
-  // The cone (half-angle below pi/2) is the intersection of the half-planes
-  // left of its first edge and right of its second. Box corners: inside
-  // both, or a quick rejection if all lie outside one of them.
-  int outside1 = 0;
-  int outside2 = 0;
-  for (double z : {b.zMin, b.zMax}) {
-    for (double r : {b.rMin, b.rMax}) {
-      double pz = z - rz.z;
-      double pr = r - rz.r;
-      bool in1 = p.edgeZ[0] * pr - p.edgeR[0] * pz >= 0.0;
-      bool in2 = pz * p.edgeR[1] - pr * p.edgeZ[1] >= 0.0;
-      outside1 += in1 ? 0 : 1;
-      outside2 += in2 ? 0 : 1;
-      if (in1 && in2) {
-        add(z, r);
-      }
-    }
-  }
-  if (outside1 == 4 || outside2 == 4) {
+  if (!coneBoxVertices(p, b, 0.0, add)) {
     return false;
-  }
-  if (rz.z >= b.zMin && rz.z <= b.zMax && rz.r >= b.rMin && rz.r <= b.rMax) {
-    add(rz.z, rz.r);
-  }
-  for (int e = 0; e < 2; ++e) {
-    const double ez = p.edgeZ[e];
-    const double er = p.edgeR[e];
-    if (ez != 0.0) {
-      for (double z : {b.zMin, b.zMax}) {
-        double t = (z - rz.z) / ez;
-        double r = rz.r + t * er;
-        if (t >= 0.0 && r >= b.rMin && r <= b.rMax) {
-          add(z, r);
-        }
-      }
-    }
-    if (er != 0.0) {
-      for (double r : {b.rMin, b.rMax}) {
-        double t = (r - rz.r) / er;
-        double z = rz.z + t * ez;
-        if (t >= 0.0 && z >= b.zMin && z <= b.zMax) {
-          add(z, r);
-        }
-      }
-    }
   }
   if (wLo > wHi) {
     return false;
@@ -170,42 +189,7 @@ bool HitPool::rzReach(const PreparedRz& p, const RzBox& b, RzBox& out) {
     out.rMin = std::min(out.rMin, r);
     out.rMax = std::max(out.rMax, r);
   };
-  for (double z : {b.zMin, b.zMax}) {
-    for (double r : {b.rMin, b.rMax}) {
-      const double pz = z - rz.z;
-      const double pr = r - rz.r;
-      if (p.edgeZ[0] * pr - p.edgeR[0] * pz >= -tol &&
-          pz * p.edgeR[1] - pr * p.edgeZ[1] >= -tol) {
-        add(z, r);
-      }
-    }
-  }
-  if (rz.z >= b.zMin - tol && rz.z <= b.zMax + tol && rz.r >= b.rMin - tol &&
-      rz.r <= b.rMax + tol) {
-    add(rz.z, rz.r);
-  }
-  for (int e = 0; e < 2; ++e) {
-    const double ez = p.edgeZ[e];
-    const double er = p.edgeR[e];
-    if (ez != 0.0) {
-      for (double z : {b.zMin, b.zMax}) {
-        const double t = (z - rz.z) / ez;
-        const double r = rz.r + t * er;
-        if (t >= -tol && r >= b.rMin - tol && r <= b.rMax + tol) {
-          add(z, r);
-        }
-      }
-    }
-    if (er != 0.0) {
-      for (double r : {b.rMin, b.rMax}) {
-        const double t = (r - rz.r) / er;
-        const double z = rz.z + t * ez;
-        if (t >= -tol && z >= b.zMin - tol && z <= b.zMax + tol) {
-          add(z, r);
-        }
-      }
-    }
-  }
+  coneBoxVertices(p, b, tol, add);
   if (!(out.zMin <= out.zMax)) {
     return false;  // no part found: no pre-filter (rzRange() decides)
   }
