@@ -5,13 +5,18 @@
 #              the main job on 5 events and a real TrackML reconstruction
 #   make fuzz  build the libFuzzer targets (clang-14) and run each for
 #              FUZZ_SECONDS seconds (docs/fuzzing.md)
+#   make test-slurm  start a one-node Slurm cluster here (root), run a
+#              sharded study on it and compare with one process
+#              (docs/cluster.md)
+#   make benchmark-merge  time `conftrack merge` of 100 shards of a
+#              10,000-event muon study
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 RUN_ARGS ?=
 FUZZ_SECONDS ?= 60
 FUZZ_BUILD_DIR ?= build-fuzz
 
-.PHONY: run test build deps clean format benchmark check-sanitizers fuzz fuzz-deps
+.PHONY: run test build deps clean format benchmark benchmark-merge check-sanitizers fuzz fuzz-deps test-slurm
 
 run: build
 	./$(BUILD_DIR)/conftrack run $(RUN_ARGS)
@@ -35,6 +40,13 @@ fuzz: fuzz-deps
 
 fuzz-deps:
 	@scripts/install-deps.sh --fuzz
+
+test-slurm: build
+	@scripts/install-deps.sh --slurm
+	tests/slurm/slurm_cluster_test.sh $(BUILD_DIR)/conftrack
+
+benchmark-merge: build
+	benchmarks/merge_benchmark.sh $(BUILD_DIR)/conftrack
 
 benchmark: build
 	./$(BUILD_DIR)/benchmarks/conftrack_benchmarks

@@ -27,7 +27,8 @@ rss_mb="${FUZZ_RSS_MB:-2048}"
 timeout="${FUZZ_TIMEOUT:-10}"
 jobs="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 all_targets="trackml_hits trackml_hits_gz trackml_truth trackml_particles
-  submission track_files detector_toml chain_toml generator_toml hepmc_text"
+  submission track_files detector_toml chain_toml generator_toml hepmc_text
+  performance_data"
 targets="${FUZZ_TARGETS:-$all_targets}"
 
 launcher=()
@@ -45,6 +46,7 @@ dict_of() {
   case "$1" in
     *_toml) echo fuzz/dict/toml.dict ;;
     hepmc_text) echo fuzz/dict/hepmc.dict ;;
+    performance_data) echo fuzz/dict/json.dict ;;
     trackml_hits_gz) echo "" ;;
     *) echo fuzz/dict/csv.dict ;;
   esac
@@ -60,7 +62,10 @@ for t in $targets; do
   mkdir -p "$scratch/$t" "$build/artifacts/$t"
   cp -r "fuzz/corpus/$t/." "$scratch/$t/"
   dict="$(dict_of "$t")"
-  args=(-max_total_time="$seconds" -max_len="$max_len" -rss_limit_mb="$rss_mb"
+  # A report's performance data is about 20 kB even for one event.
+  len="$max_len"
+  [ "$t" = performance_data ] && len=$((max_len > 65536 ? max_len : 65536))
+  args=(-max_total_time="$seconds" -max_len="$len" -rss_limit_mb="$rss_mb"
         -timeout="$timeout" -print_final_stats=1
         -artifact_prefix="$build/artifacts/$t/")
   [ -n "$dict" ] && args+=(-dict="$dict")

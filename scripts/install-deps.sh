@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages conftrack needs, only those missing.
 # Called by `make run` and `make test`; safe to run by hand. With --fuzz it
 # also installs the compiler of the fuzzing build (`make fuzz`, clang's
-# libFuzzer and sanitizer runtimes), which the rest does not need.
+# libFuzzer and sanitizer runtimes), with --slurm the Slurm daemons and
+# munge of the cluster test (`make test-slurm`); the rest needs neither.
 set -euo pipefail
 
 packages=(
@@ -14,9 +15,11 @@ packages=(
   python3-dev pybind11-dev python3-pandas python3-pytest
 )
 fuzz_packages=(clang-14 libclang-rt-14-dev)
-if [ "${1:-}" = "--fuzz" ]; then
-  packages+=("${fuzz_packages[@]}")
-fi
+slurm_packages=(slurm-wlm munge)
+case "${1:-}" in
+  --fuzz) packages+=("${fuzz_packages[@]}") ;;
+  --slurm) packages+=("${slurm_packages[@]}") ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

@@ -19,5 +19,7 @@ void addDiagnoseCommand(CLI::App& app);
 void addDisplayCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addOverlayCommand(CLI::App& app);
+void addMergeCommand(CLI::App& app);
+void addSlurmCommand(CLI::App& app);
 
 }  // namespace conftrack::cli

@@ -27,30 +27,35 @@ struct EvaluateOptions {
   std::size_t threads = 0;
   bool singleParticle = false;
   bool noPlots = false;
+  ShardOption shard;
 };
 
 void runEvaluate(const EvaluateOptions& opt) {
   Detector detector = loadDetector(opt.detector);
-  std::vector<std::uint64_t> numbers = requireEvents(opt.events);
+  const std::vector<std::uint64_t> numbers = requireEvents(opt.events);
   prepareOutputFolder(opt.output, "-o");
+  const auto [first, last] = shardRange(numbers.size(), opt.shard);
   PerformanceCollector collector(opt.singleParticle
                                      ? PerformanceConfig::singleParticleSample()
-                                     : PerformanceConfig{});
-  forEachEvent(numbers.size(), opt.threads, "evaluate", [&](std::size_t i) {
-    Event event = readEvent(opt.events, numbers[i], &detector);
+                                     : PerformanceConfig{},
+                                 first);
+  forEachEvent(last - first, opt.threads, "evaluate", [&](std::size_t i) {
+    const std::uint64_t number = numbers[first + i];
+    Event event = readEvent(opt.events, number, &detector);
     if (!event.hasTruth()) {
-      throw InputError(opt.events, "event " + std::to_string(numbers[i]) +
+      throw InputError(opt.events, "event " + std::to_string(number) +
                                        " has no truth file: nothing to "
                                        "evaluate against");
     }
-    std::vector<Track> tracks = readTracks(opt.tracks, numbers[i], event.hits);
-    collector.addEvent(i, event, tracks, detector.bz(), {}, {});
+    std::vector<Track> tracks = readTracks(opt.tracks, number, event.hits);
+    collector.addEvent(first + i, event, tracks, detector.bz(), {}, {});
   });
   RunMetadata meta;
   meta.detector = detector.name();
   meta.sample = opt.events;
   meta.events = numbers.size();
   meta.threads = effectiveThreads(opt.threads);
+  meta.shard = {opt.shard.index, opt.shard.count, first};
   PerformanceSummary summary = collector.summary();
   printSummaryTable(std::cout, meta, summary);
   writePerformanceReport(opt.output, meta, summary, !opt.noPlots, std::cerr);
@@ -76,6 +81,7 @@ void addEvaluateCommand(CLI::App& app) {
                 "Single-particle sample: residuals, pulls, >= 3 hits");
   cmd->add_flag("--no-plots", opt->noPlots, "Skip the Python plots");
   addThreadsOption(*cmd, opt->threads);
+  addShardOption(*cmd, opt->shard);
   cmd->callback([opt]() { runEvaluate(*opt); });
 }
 

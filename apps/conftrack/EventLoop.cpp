@@ -141,6 +141,59 @@ EventSimulation::Config makeSimulationConfig(const SampleOptions& o) {
   return c;
 }
 
+namespace {
+
+/// "K/N" as a shard, or nullopt if it is not one.
+std::optional<ShardOption> parseShard(const std::string& text) {
+  const auto slash = text.find('/');
+  if (slash == std::string::npos) {
+    return std::nullopt;
+  }
+  auto whole = [](std::string_view digits, std::size_t& value) {
+    const char* end = digits.data() + digits.size();
+    auto [ptr, ec] = std::from_chars(digits.data(), end, value);
+    return !digits.empty() && ptr == end && ec == std::errc{};
+  };
+  ShardOption shard;
+  const std::string_view view(text);
+  if (!whole(view.substr(0, slash), shard.index) ||
+      !whole(view.substr(slash + 1), shard.count) || shard.count == 0 ||
+      shard.count > kMaxShards || shard.index >= shard.count) {
+    return std::nullopt;
+  }
+  return shard;
+}
+
+}  // namespace
+
+void addShardOption(CLI::App& cmd, ShardOption& shard) {
+  cmd.add_option_function<std::string>(
+         "--shard",
+         [&shard](const std::string& text) { shard = *parseShard(text); },
+         "Process only the K-th of N slices of the events (K from 0; "
+         "contiguous blocks by event number, so an event gives the same "
+         "result in any shard); `conftrack merge` joins the reports")
+      ->type_name("K/N")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return parseShard(text)
+                       ? ""
+                       : "'" + text + "' is not K/N with 0 <= K < N <= " +
+                             std::to_string(kMaxShards);
+          },
+          "K/N"));
+}
+
+std::pair<std::size_t, std::size_t> shardRange(std::size_t n,
+                                               const ShardOption& shard) {
+  // floor(n k / N) without forming n k: with n = q N + r it is
+  // q k + floor(r k / N), and r k < N^2 <= 10^12.
+  const std::size_t q = n / shard.count;
+  const std::size_t r = n % shard.count;
+  const auto bound = [&](std::size_t k) { return q * k + r * k / shard.count; };
+  return {bound(shard.index), bound(shard.index + 1)};
+}
+
 void addThreadsOption(CLI::App& cmd, std::size_t& threads) {
   cmd.add_option("-j,--threads", threads, "Threads (0: all cores)")
       ->capture_default_str()

@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace conftrack::cli {
@@ -63,6 +64,26 @@ std::shared_ptr<const ModuleLayout> loadModuleLayout(
 /// Turns the options into an EventSimulation configuration (reads the
 /// --config file). Throws InputError for bad values.
 EventSimulation::Config makeSimulationConfig(const SampleOptions& options);
+
+/// --shard K/N: the K-th (0-based) of N contiguous slices of a run's
+/// events, for running one run as N processes (docs/cluster.md).
+struct ShardOption {
+  std::size_t index = 0;
+  std::size_t count = 1;
+};
+
+/// Most shards --shard accepts.
+inline constexpr std::size_t kMaxShards = 1000000;
+
+/// Adds --shard K/N ("K/N" with 0 <= K < N <= kMaxShards; refused with a
+/// one-line message otherwise).
+void addShardOption(CLI::App& cmd, ShardOption& shard);
+
+/// The event indices [first, second) of `shard` among `n` events:
+/// [n K / N, n (K + 1) / N), so the shards tile the events in order and
+/// differ in size by at most one (a shard may be empty when N > n).
+std::pair<std::size_t, std::size_t> shardRange(std::size_t n,
+                                               const ShardOption& shard);
 
 /// Adds -j,--threads (0: all cores).
 void addThreadsOption(CLI::App& cmd, std::size_t& threads);

@@ -6,6 +6,7 @@
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -31,6 +32,7 @@ struct ReconstructOptions {
   bool submission = false;
   /// The hits come from a module-level simulation (loadSensorLayout).
   bool moduleLevel = false;
+  ShardOption shard;
 };
 
 struct EventReport {
@@ -46,6 +48,9 @@ void runReconstruct(const ReconstructOptions& opt) {
   Reconstruction reco(detector, makeReconstructionConfig(opt.reco, detector),
                       loadSensorLayout(detector, opt.moduleLevel));
   std::vector<std::uint64_t> events = requireEvents(opt.input);
+  const auto [first, last] = shardRange(events.size(), opt.shard);
+  events =
+      std::vector<std::uint64_t>(events.begin() + first, events.begin() + last);
   prepareOutputFolder(opt.output, "-o");
   std::vector<EventReport> reports(events.size());
   forEachEvent(events.size(), opt.threads, "reconstruct", [&](std::size_t i) {
@@ -75,7 +80,7 @@ void runReconstruct(const ReconstructOptions& opt) {
     total.findingMs += e.findingMs;
     total.fittingMs += e.fittingMs;
   }
-  double n = static_cast<double>(events.size());
+  double n = static_cast<double>(std::max<std::size_t>(1, events.size()));
   std::printf(
       "%zu events: %.1f hits and %.1f tracks per event; finding %.1f ms, "
       "fitting %.1f ms per event; tracks in %s\n",
@@ -98,6 +103,7 @@ void addReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   addReconstructionOptions(*cmd, opt->reco);
   addThreadsOption(*cmd, opt->threads);
+  addShardOption(*cmd, opt->shard);
   cmd->add_flag("--gzip", opt->gzip, "Write .csv.gz files");
   cmd->add_flag("--submission", opt->submission,
                 "Also write TrackML submission files "

@@ -7,6 +7,7 @@
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -30,6 +31,7 @@ struct RunOptions {
   std::size_t threads = 0;
   bool noPlots = false;
   std::string study;
+  ShardOption shard;
 };
 
 /// One simulated sample of a report.
@@ -142,9 +144,17 @@ void runReport(const RunOptions& opt, const Detector& detector,
                const Reconstruction& reco, const ReportSpec& spec) {
   using Clock = std::chrono::steady_clock;
   std::filesystem::path dir = std::filesystem::path(opt.output) / spec.folder;
+  std::size_t totalEvents = 0;
+  for (const SubSample& sub : spec.samples) {
+    totalEvents += sub.events;
+  }
+  // This process's events: indices [first, last) of the report's events,
+  // which run on across its sub-samples.
+  const auto [first, last] = shardRange(totalEvents, opt.shard);
   PerformanceCollector collector(spec.singleParticle
                                      ? PerformanceConfig::singleParticleSample()
-                                     : PerformanceConfig{});
+                                     : PerformanceConfig{},
+                                 first);
   std::size_t offset = 0;
   std::size_t overlayBx = 0;
   std::string description;
@@ -156,47 +166,57 @@ void runReport(const RunOptions& opt, const Detector& detector,
     EventSimulation sim(detector, config);
     overlayBx = sim.config().overlayBx;
     description = sim.description();
-    CONFTRACK_INFO("run: " << sub.events << " events of " << description
+    const std::size_t subStart = offset;
+    offset += sub.events;
+    const std::size_t begin = std::clamp(first, subStart, offset);
+    const std::size_t end = std::clamp(last, subStart, offset);
+    if (begin == end) {
+      continue;
+    }
+    CONFTRACK_INFO("run: " << end - begin << " events of " << description
                            << " in " << detector.name() << ", seed "
                            << sub.sim.seed << ", "
                            << effectiveThreads(opt.threads) << " threads");
-    forEachEvent(sub.events, opt.threads, "run", [&](std::size_t i) {
+    forEachEvent(end - begin, opt.threads, "run", [&](std::size_t i) {
+      const std::size_t index = begin + i;
+      const std::size_t local = index - subStart;
       auto t0 = Clock::now();
       // Event numbers run on across the sub-samples of a report: with the
       // same seed, event k of every sub-sample would reuse the same random
       // streams (smearing, scattering), and the 15 points of --study muons
       // would be one sample of -n independent tracks, not 15 (their pull
       // widths then scattered by +-10 % at -n 200).
-      Event event = sim.simulate(offset + i + 1);
+      Event event = sim.simulate(index + 1);
       double simMs =
           std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
       Reconstruction::Result r = reco.run(event.hits);
       warnIfTruncated(spec.folder.empty()
-                          ? "event " + std::to_string(i + 1)
-                          : spec.folder + " event " + std::to_string(i + 1),
+                          ? "event " + std::to_string(local + 1)
+                          : spec.folder + " event " + std::to_string(local + 1),
                       r.steps);
-      collector.addEvent(offset + i, event, r.tracks, detector.bz(), r.steps,
+      collector.addEvent(index, event, r.tracks, detector.bz(), r.steps,
                          {simMs, r.findingMs, r.fittingMs + r.selectionMs});
-      if (offset + i == 0) {
+      if (index == first) {
         firstEvent = std::move(event);
         firstTracks = std::move(r.tracks);
       }
     });
-    offset += sub.events;
   }
   RunMetadata meta;
   meta.detector = detector.name();
   meta.sample =
       spec.samples.size() == 1 ? spec.samples.front().sim.sample : spec.sample;
   meta.overlayBx = overlayBx;
-  meta.events = offset;
+  meta.events = totalEvents;
   meta.seed = opt.sample.seed;
   meta.threads = effectiveThreads(opt.threads);
+  meta.shard = {opt.shard.index, opt.shard.count, first};
   PerformanceSummary summary = collector.summary();
   std::filesystem::create_directories(dir);
-  if (!opt.noPlots) {
+  if (!opt.noPlots && first < last) {
     drawEventDisplay(dir / "event_display.png", firstEvent.hits, firstTracks,
-                     detector.name() + ", " + description + ", event 1",
+                     detector.name() + ", " + description + ", event " +
+                         std::to_string(first + 1),
                      std::cerr);
   }
   printSummaryTable(std::cout, meta, summary);
@@ -239,6 +259,7 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("-o,--output", opt->output, "Output folder")
       ->capture_default_str();
   addThreadsOption(*cmd, opt->threads);
+  addShardOption(*cmd, opt->shard);
   cmd->add_flag("--no-plots", opt->noPlots, "Skip the Python plots");
   cmd->add_option("--study", opt->study,
                   "Preset reproducing the paper's figures: muons (-n events "

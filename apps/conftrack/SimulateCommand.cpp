@@ -30,6 +30,7 @@ struct SimulateOptions {
   std::size_t threads = 0;
   bool summary = false;
   bool gzip = false;
+  ShardOption shard;
 };
 
 /// Per-event numbers for --summary.
@@ -67,12 +68,15 @@ void runSimulate(const SimulateOptions& opt) {
   config.modules = loadModuleLayout(opt.sample, detector);
   EventSimulation sim(detector, config);
   prepareOutputFolder(opt.output, "-o");
-  std::vector<EventCounts> counts(opt.events);
-  CONFTRACK_INFO("simulating " << opt.events << " events of "
+  // With --shard, events [first, last) of the -n requested.
+  const auto [first, last] = shardRange(opt.events, opt.shard);
+  const std::uint64_t firstNumber = opt.firstEvent + first;
+  std::vector<EventCounts> counts(last - first);
+  CONFTRACK_INFO("simulating " << counts.size() << " events of "
                                << sim.description() << " in " << detector.name()
                                << ", seed " << opt.sample.seed);
-  forEachEvent(opt.events, opt.threads, "simulate", [&](std::size_t i) {
-    Event event = sim.simulate(opt.firstEvent + i);
+  forEachEvent(counts.size(), opt.threads, "simulate", [&](std::size_t i) {
+    Event event = sim.simulate(firstNumber + i);
     writeEvent(opt.output, event, &detector, {opt.gzip});
     if (opt.summary) {
       counts[i] = countEvent(event);
@@ -84,7 +88,7 @@ void runSimulate(const SimulateOptions& opt) {
     EventCounts total;
     for (std::size_t i = 0; i < counts.size(); ++i) {
       std::printf("%8llu %10zu %16zu %16zu\n",
-                  static_cast<unsigned long long>(opt.firstEvent + i),
+                  static_cast<unsigned long long>(firstNumber + i),
                   counts[i].hits, counts[i].signalReconstructable,
                   counts[i].backgroundReconstructable);
       total.hits += counts[i].hits;
@@ -118,6 +122,7 @@ void addSimulateCommand(CLI::App& app) {
   cmd->add_option("-o,--output", opt->output, "Output folder")
       ->capture_default_str();
   addThreadsOption(*cmd, opt->threads);
+  addShardOption(*cmd, opt->shard);
   cmd->add_flag("--summary", opt->summary,
                 "Print hits and reconstructable particles per event");
   cmd->add_flag("--gzip", opt->gzip, "Write .csv.gz files");

@@ -80,6 +80,8 @@ int main(int argc, char** argv) {
   cli::addReconstructCommand(app);
   cli::addRunCommand(app);
   cli::addEvaluateCommand(app);
+  cli::addMergeCommand(app);
+  cli::addSlurmCommand(app);
   cli::addTrackmlCommands(app);
   cli::addDiagnoseCommand(app);
   cli::addDisplayCommand(app);

@@ -3,6 +3,8 @@
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Hit.hpp"
+#include "conftrack/core/JsonEntry.hpp"
+#include "conftrack/evaluation/ShardMerge.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/TextFile.hpp"
@@ -188,6 +190,20 @@ Outcome hepmcText(std::string_view data) {
   return refusedOr([&] { readHepMCEvents(data, "events.hepmc"); });
 }
 
+Outcome performanceData(std::string_view data) {
+  // What `conftrack merge` does with one shard's file: parse, merge (one
+  // shard) and summarise (resolution and pull fits of the residuals).
+  return refusedOr([&] {
+    const std::string source = "performance_data.json";
+    std::vector<ShardInput> shards;
+    shards.push_back(
+        {parsePerformanceDataJson(parseJsonObject(data, source), source),
+         source});
+    SavedPerformance merged = mergeShards(std::move(shards));
+    summarizePerformance(merged.config, merged.data);
+  });
+}
+
 constexpr std::array kTargets = {
     Target{"trackml_hits", trackmlHits},
     Target{"trackml_hits_gz", trackmlHitsGz},
@@ -201,6 +217,8 @@ constexpr std::array kTargets = {
     // HepMC2 IO_GenEvent and HepMC3 Asciiv3 text (one reader entry point;
     // the corpus holds both formats).
     Target{"hepmc_text", hepmcText},
+    // The mergeable results of a report (conftrack merge).
+    Target{"performance_data", performanceData},
 };
 
 }  // namespace

@@ -110,6 +110,15 @@ Ratio RatioHistogram::bin(std::size_t i) const {
                m_denominator.at(static_cast<int>(i))};
 }
 
+Ratio RatioHistogram::counts(int i) const {
+  return Ratio{m_numerator.at(i), m_denominator.at(i)};
+}
+
+void RatioHistogram::setCounts(int i, const Ratio& counts) {
+  m_numerator.at(i) = counts.passed;
+  m_denominator.at(i) = counts.total;
+}
+
 Ratio RatioHistogram::total() const {
   Ratio sum;
   for (std::size_t i = 0; i < size(); ++i) {

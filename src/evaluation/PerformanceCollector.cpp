@@ -221,8 +221,9 @@ PerformanceSummary summarizePerformance(const PerformanceConfig& config,
   return s;
 }
 
-PerformanceCollector::PerformanceCollector(Config config)
-    : m_config(std::move(config)) {
+PerformanceCollector::PerformanceCollector(Config config,
+                                           std::size_t firstIndex)
+    : m_config(std::move(config)), m_nextIndex(firstIndex) {
   if (!(m_config.matching.purity > 0.0 && m_config.matching.purity <= 1.0)) {
     throw std::invalid_argument("PerformanceCollector: purity not in (0, 1]");
   }

@@ -153,6 +153,16 @@ Json makeSummaryJson(const RunMetadata& m, const PerformanceSummary& s) {
   j["events"] = eventsOf(m, s);
   j["seed"] = m.seed;
   j["threads"] = m.threads;
+  if (m.shard.count > 1) {
+    Json shard;
+    shard["index"] = m.shard.index;
+    shard["count"] = m.shard.count;
+    shard["first_event"] = m.shard.firstEvent;
+    j["shard"] = shard;
+  }
+  if (m.mergedShards > 0) {
+    j["merged_shards"] = m.mergedShards;
+  }
   j["bz_T"] = number(d.bz / units::T);
   j["events_evaluated"] = d.events;
   j["reconstructable_particles"] = d.reconstructableParticles;
@@ -174,6 +184,18 @@ Json makeSummaryJson(const RunMetadata& m, const PerformanceSummary& s) {
   }
   time["steps"] = steps;
   j["time_ms_per_event"] = time;
+  Json total;
+  total["simulation"] = d.simulationMs;
+  total["finding"] = d.findingMs;
+  total["fitting"] = d.fittingMs;
+  j["time_ms_total"] = total;
+  if (m.mergedShards > 0) {
+    j["timing_note"] =
+        "merged from " + std::to_string(m.mergedShards) +
+        " shards: time_ms_total sums the shards' wall times, "
+        "time_ms_per_event divides it by all events, peak_rss_mb is the "
+        "largest shard's; threads is each shard's";
+  }
   j["peak_rss_mb"] = number(s.peakRssMb);
 
   if (!s.pulls.empty()) {

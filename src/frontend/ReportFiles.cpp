@@ -1,7 +1,10 @@
 #include "conftrack/frontend/ReportFiles.hpp"
 
 #include "conftrack/core/DataFiles.hpp"
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/JsonEntry.hpp"
 #include "conftrack/core/Units.hpp"
+#include "conftrack/io/TextFile.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -99,6 +102,22 @@ void writeSummaryJson(const fs::path& file, const RunMetadata& metadata,
   std::ofstream out = openForWriting(file);
   out << makeSummaryJson(metadata, summary).dump(2) << '\n';
   finish(out, file);
+}
+
+void writePerformanceData(const fs::path& file, const RunMetadata& metadata,
+                          const PerformanceSummary& summary) {
+  writeTextFile(file, makePerformanceDataJson(metadata, summary).dump() + "\n",
+                false);
+}
+
+SavedPerformance readPerformanceData(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {
+    throw MissingFileError(file.string(), "no such file");
+  }
+  const std::string source = file.string();
+  return parsePerformanceDataJson(parseJsonObject(readTextFile(file), source),
+                                  source);
 }
 
 void writeRatioCsv(const fs::path& file, const RatioHistogram& h, double unit) {
@@ -315,10 +334,12 @@ PlotScriptResult writePerformanceReport(const fs::path& dir,
   writeSummaryJson(dir / "summary.json", metadata, summary);
   const std::vector<std::string> files = writeHistogramCsvs(dir, summary);
   writeIndexHtml(dir, metadata, summary, files);
-  if (!plots) {
-    return PlotScriptResult{false, "plots not requested"};
+  PlotScriptResult result{false, "plots not requested"};
+  if (plots) {
+    result = runPlotScript(dir, log);
   }
-  return runPlotScript(dir, log);
+  writePerformanceData(dir / kPerformanceDataFile, metadata, summary);
+  return result;
 }
 
 }  // namespace conftrack

@@ -1,6 +1,7 @@
 #include "conftrack/geometry/LayoutModules.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/JsonEntry.hpp"
 #include "conftrack/core/Units.hpp"
 
 #include <Eigen/Geometry>
@@ -22,113 +23,7 @@ using nlohmann::json;
 
 constexpr double kPi = std::numbers::pi;
 /// Upper limit on a count in the file (sensors per ring, row or layer).
-constexpr std::int64_t kMaxCount = 100000;
-
-/// A JSON object of the layout file with its key path, for one-line errors
-/// "source: key 'barrel_layers[6].r_mm': problem".
-class Entry {
- public:
-  Entry(const json& value, std::string path, const std::string& source)
-      : m_value(value), m_path(std::move(path)), m_source(source) {}
-
-  std::string keyPath(std::string_view key) const {
-    return m_path.empty() ? std::string(key) : m_path + "." + std::string(key);
-  }
-  [[noreturn]] void fail(std::string_view key, std::string_view problem) const {
-    throw InputError(m_source,
-                     "key '" + keyPath(key) + "': " + std::string(problem));
-  }
-  bool has(std::string_view key) const { return m_value.contains(key); }
-  const json& get(std::string_view key) const {
-    const auto it = m_value.find(key);
-    if (it == m_value.end()) {
-      fail(key, "missing");
-    }
-    return *it;
-  }
-  std::string text(std::string_view key) const {
-    const json& v = get(key);
-    if (!v.is_string()) {
-      fail(key, "expected a string");
-    }
-    return v.get<std::string>();
-  }
-  double number(std::string_view key) const {
-    return checkedNumber(get(key), key);
-  }
-  double positive(std::string_view key) const {
-    const double x = number(key);
-    if (!(x > 0.0)) {
-      fail(key, "must be positive");
-    }
-    return x;
-  }
-  double nonNegative(std::string_view key) const {
-    const double x = number(key);
-    if (!(x >= 0.0)) {
-      fail(key, "must not be negative");
-    }
-    return x;
-  }
-  /// An integer in [minimum, kMaxCount].
-  std::uint32_t count(std::string_view key, std::int64_t minimum = 1) const {
-    const json& v = get(key);
-    if (!v.is_number_integer()) {
-      fail(key, "expected an integer");
-    }
-    const auto n = v.get<std::int64_t>();
-    if (n < minimum || n > kMaxCount) {
-      fail(key, "must be between " + std::to_string(minimum) + " and " +
-                    std::to_string(kMaxCount));
-    }
-    return static_cast<std::uint32_t>(n);
-  }
-  /// An array of `size` finite numbers.
-  std::vector<double> numbers(std::string_view key, std::size_t size) const {
-    const json& v = get(key);
-    if (!v.is_array() || v.size() != size) {
-      fail(key, "expected an array of " + std::to_string(size) + " numbers");
-    }
-    std::vector<double> out;
-    for (std::size_t i = 0; i < size; ++i) {
-      out.push_back(checkedNumber(
-          v[i], std::string(key) + "[" + std::to_string(i) + "]"));
-    }
-    return out;
-  }
-  /// The objects of an array.
-  std::vector<Entry> objects(std::string_view key) const {
-    const json& v = get(key);
-    if (!v.is_array()) {
-      fail(key, "expected an array");
-    }
-    std::vector<Entry> out;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const std::string path = keyPath(key) + "[" + std::to_string(i) + "]";
-      if (!v[i].is_object()) {
-        throw InputError(m_source, "key '" + path + "': expected an object");
-      }
-      out.emplace_back(v[i], path, m_source);
-    }
-    return out;
-  }
-
- private:
-  double checkedNumber(const json& v, std::string_view key) const {
-    if (!v.is_number()) {
-      fail(key, "expected a number");
-    }
-    const double x = v.get<double>();
-    if (!std::isfinite(x)) {
-      fail(key, "must be finite");
-    }
-    return x;
-  }
-
-  const json& m_value;
-  std::string m_path;
-  const std::string& m_source;
-};
+constexpr std::uint64_t kMaxCount = 100000;
 
 /// What every sensor of a layer shares.
 struct SensorTemplate {
@@ -171,9 +66,9 @@ PlanarModule makeSensor(std::uint32_t layer, std::uint32_t number,
 }
 
 /// Flat staves of the vertex barrel (ZPlanarTracker).
-void addStaves(const Entry& e, std::uint32_t layer, const SensorTemplate& t,
+void addStaves(const JsonEntry& e, std::uint32_t layer, const SensorTemplate& t,
                std::vector<PlanarModule>& out) {
-  const std::uint32_t n = e.count("n_staves", 3);
+  const auto n = static_cast<std::uint32_t>(e.count("n_staves", 3, kMaxCount));
   const double width = e.positive("stave_width_mm") * units::mm;
   const double offset = e.number("stave_offset_mm") * units::mm;
   const double distance = e.positive("r_mm") * units::mm;
@@ -189,10 +84,12 @@ void addStaves(const Entry& e, std::uint32_t layer, const SensorTemplate& t,
 }
 
 /// Staggered modules of a tracker barrel layer (TrackerBarrel driver).
-void addBarrelModules(const Entry& e, std::uint32_t layer,
+void addBarrelModules(const JsonEntry& e, std::uint32_t layer,
                       const SensorTemplate& t, std::vector<PlanarModule>& out) {
-  const std::uint32_t nPhi = e.count("n_phi_modules", 3);
-  const std::uint32_t nZ = e.count("n_z_modules");
+  const auto nPhi =
+      static_cast<std::uint32_t>(e.count("n_phi_modules", 3, kMaxCount));
+  const auto nZ =
+      static_cast<std::uint32_t>(e.count("n_z_modules", 1, kMaxCount));
   const std::vector<double> size = e.numbers("module_size_mm", 2);
   if (!(size[0] > 0.0 && size[1] > 0.0)) {
     e.fail("module_size_mm", "sizes must be positive");
@@ -223,20 +120,21 @@ void addBarrelModules(const Entry& e, std::uint32_t layer,
 
 /// Rings of rectangular modules of a tracker disk (TrackerEndcap driver);
 /// `sign` is +1 for the +z disk, -1 for its mirror.
-void addDiskModules(const Entry& e, std::uint32_t layer, double sign,
+void addDiskModules(const JsonEntry& e, std::uint32_t layer, double sign,
                     const SensorTemplate& t, std::vector<PlanarModule>& out) {
   const double z = e.positive("z_mm") * units::mm;
   const std::vector<double> offsets = e.numbers("module_z_offsets_mm", 2);
   const double sensorOffset =
       e.number("sensor_z_offset_in_module_mm") * units::mm;
   std::uint32_t number = 0;
-  for (const Entry& ring : e.objects("rings")) {
+  for (const JsonEntry& ring : e.objects("rings")) {
     const double rMin = ring.positive("r_min_mm") * units::mm;
     const double rMax = ring.positive("r_max_mm") * units::mm;
     if (!(rMax > rMin)) {
       ring.fail("r_max_mm", "must be larger than r_min_mm");
     }
-    const std::uint32_t n = ring.count("n_modules", 3);
+    const auto n =
+        static_cast<std::uint32_t>(ring.count("n_modules", 3, kMaxCount));
     const double width = ring.positive("module_width_mm") * units::mm;
     for (std::uint32_t k = 0; k < n; ++k) {
       const double phi = 2.0 * kPi * k / n;
@@ -252,9 +150,9 @@ void addDiskModules(const Entry& e, std::uint32_t layer, double sign,
 }
 
 /// Trapezoidal petals of a vertex disk (VertexEndcap driver).
-void addPetals(const Entry& e, std::uint32_t layer, double sign,
+void addPetals(const JsonEntry& e, std::uint32_t layer, double sign,
                const SensorTemplate& t, std::vector<PlanarModule>& out) {
-  const std::uint32_t n = e.count("n_petals", 3);
+  const auto n = static_cast<std::uint32_t>(e.count("n_petals", 3, kMaxCount));
   const double rMin = e.positive("r_min_mm") * units::mm;
   const double rMax = e.positive("r_max_mm") * units::mm;
   if (!(rMax > rMin)) {
@@ -297,7 +195,7 @@ void addPetals(const Entry& e, std::uint32_t layer, double sign,
 
 /// The sensor properties of a layer entry; `support` receives the
 /// layer's material besides the sensors [X0].
-SensorTemplate readTemplate(const Entry& e, bool disk, double& support) {
+SensorTemplate readTemplate(const JsonEntry& e, bool disk, double& support) {
   SensorTemplate t;
   t.thickness = e.positive("sensor_thickness_um") * units::um;
   t.sigmaU = e.positive("resolution_rphi_um") * units::um;
@@ -314,7 +212,7 @@ SensorTemplate readTemplate(const Entry& e, bool disk, double& support) {
 }
 
 /// Index of the detector layer of an entry on `side`.
-std::uint32_t matchLayer(const Entry& e, const Detector& detector,
+std::uint32_t matchLayer(const JsonEntry& e, const Detector& detector,
                          SubdetectorKind kind, Side side) {
   const std::string name = e.text("subdetector");
   const std::optional<std::uint16_t> sub = detector.findSubdetector(name);
@@ -324,7 +222,8 @@ std::uint32_t matchLayer(const Entry& e, const Detector& detector,
                (kind == SubdetectorKind::eBarrel ? "a barrel" : "an endcap") +
                " subdetector of detector " + detector.name());
   }
-  const std::uint32_t number = e.count("layer_id", 0);
+  const auto number =
+      static_cast<std::uint32_t>(e.count("layer_id", 0, kMaxCount));
   std::optional<std::uint32_t> layer;
   if (number <= 0xffff) {
     DetectorId id;
@@ -345,26 +244,12 @@ std::uint32_t matchLayer(const Entry& e, const Detector& detector,
 ModuleLayout buildLayoutModules(std::string_view jsonText,
                                 const Detector& detector,
                                 const std::string& source) {
-  json document;
-  try {
-    document = json::parse(jsonText);
-  } catch (const json::parse_error& error) {
-    // "[json.exception.parse_error.101] parse error at line 1, column 2:
-    // ..." names the place; keep it on one line.
-    std::string what = error.what();
-    const auto colon = what.find("] ");
-    throw InputError(source, "invalid JSON: " + (colon == std::string::npos
-                                                     ? what
-                                                     : what.substr(colon + 2)));
-  }
-  if (!document.is_object()) {
-    throw InputError(source, "expected a JSON object");
-  }
-  const Entry root(document, "", source);
+  const json document = parseJsonObject(jsonText, source);
+  const JsonEntry root(document, "", source);
   std::vector<PlanarModule> sensors;
   std::vector<double> support(detector.layers().size(), 0.0);
   std::vector<bool> filled(detector.layers().size(), false);
-  const auto claim = [&](const Entry& e, std::uint32_t layer) {
+  const auto claim = [&](const JsonEntry& e, std::uint32_t layer) {
     if (filled[layer]) {
       e.fail("layer_id",
              "layer " + detector.layers()[layer].name + " is given twice");
@@ -372,7 +257,7 @@ ModuleLayout buildLayoutModules(std::string_view jsonText,
     filled[layer] = true;
   };
 
-  for (const Entry& e : root.objects("barrel_layers")) {
+  for (const JsonEntry& e : root.objects("barrel_layers")) {
     const std::uint32_t layer =
         matchLayer(e, detector, SubdetectorKind::eBarrel, Side::eBarrel);
     claim(e, layer);
@@ -391,7 +276,7 @@ ModuleLayout buildLayoutModules(std::string_view jsonText,
     }
   }
 
-  for (const Entry& e : root.objects("endcap_disks")) {
+  for (const JsonEntry& e : root.objects("endcap_disks")) {
     for (const Side side : {Side::ePositive, Side::eNegative}) {
       const std::uint32_t layer =
           matchLayer(e, detector, SubdetectorKind::eEndcap, side);

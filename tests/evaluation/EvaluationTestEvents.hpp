@@ -4,6 +4,7 @@
 
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Units.hpp"
+#include "conftrack/evaluation/PerformanceCollector.hpp"
 #include "conftrack/evaluation/TrackResiduals.hpp"
 #include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
@@ -193,6 +194,23 @@ inline std::vector<StepStats> twoSteps(double ms0, double ms1) {
   b.accepted = 1;
   b.milliseconds = ms1;
   return {a, b};
+}
+
+/// A mixed run: reference events, muon events and random times whose
+/// floating-point sums depend on the order of addition.
+inline std::vector<PerformanceData> mixedRun(
+    const PerformanceCollector& collector, std::size_t n) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> ms(0.1, 1000.0);
+  std::vector<PerformanceData> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    EventWithTracks e =
+        i % 3 == 0 ? referenceEvent() : muonEvent(i, 30.0, 10.0, 4.0, rng);
+    const auto steps = twoSteps(ms(rng), ms(rng));
+    out.push_back(collector.analyseEvent(
+        e.event, e.tracks, 4.0, steps, EventTimes{ms(rng), ms(rng), ms(rng)}));
+  }
+  return out;
 }
 
 }  // namespace conftrack::test

@@ -190,23 +190,6 @@ TEST(PerformanceCollector, MergesCountsTimesAndSteps) {
   EXPECT_THROW(collector.add(1, PerformanceData{}), std::invalid_argument);
 }
 
-/// A mixed run: reference events, muon events and random times whose
-/// floating-point sums depend on the order of addition.
-std::vector<PerformanceData> mixedRun(const PerformanceCollector& collector,
-                                      std::size_t n) {
-  std::mt19937_64 rng(42);
-  std::uniform_real_distribution<double> ms(0.1, 1000.0);
-  std::vector<PerformanceData> out;
-  for (std::size_t i = 0; i < n; ++i) {
-    EventWithTracks e = i % 3 == 0 ? test::referenceEvent()
-                                   : test::muonEvent(i, 30.0, 10.0, 4.0, rng);
-    const auto steps = test::twoSteps(ms(rng), ms(rng));
-    out.push_back(collector.analyseEvent(
-        e.event, e.tracks, 4.0, steps, EventTimes{ms(rng), ms(rng), ms(rng)}));
-  }
-  return out;
-}
-
 std::string summaryText(const PerformanceCollector& collector) {
   nlohmann::ordered_json j =
       makeSummaryJson(RunMetadata{}, collector.summary());
@@ -219,7 +202,7 @@ TEST(PerformanceCollector, MergeOrderDoesNotChangeResults) {
   config.minFitEntries = 5;
   const std::size_t n = 60;
   PerformanceCollector reference(config);
-  const std::vector<PerformanceData> events = mixedRun(reference, n);
+  const std::vector<PerformanceData> events = test::mixedRun(reference, n);
 
   for (std::size_t i = 0; i < n; ++i) {
     reference.add(i, events[i]);

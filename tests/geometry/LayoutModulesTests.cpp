@@ -379,14 +379,14 @@ TEST(LayoutModules, BadFilesGiveOneLineErrorsNamingTheKey) {
                       d["endcap_disks"][7]["rings"][1]["n_modules"] = -24;
                     }),
                     det),
-            "layout.json: key 'endcap_disks[7].rings[1].n_modules': must be "
-            "between 3 and 100000");
+            "layout.json: key 'endcap_disks[7].rings[1].n_modules': expected a "
+            "whole number between 3 and 100000");
   EXPECT_EQ(errorOf(edited([](json& d) {
                       d["endcap_disks"][0]["z_petals_mm"][3] = "x";
                     }),
                     det),
             "layout.json: key 'endcap_disks[0].z_petals_mm[3]': expected a "
-            "number");
+            "finite number");
   EXPECT_EQ(errorOf(edited([](json& d) {
                       d["endcap_disks"][7]["module_X0"] = -0.01;
                     }),

@@ -80,6 +80,11 @@ class RatioHistogram {
   Ratio bin(std::size_t i) const;
   /// Sum over the regular bins (under- and overflow excluded).
   Ratio total() const;
+  /// Counts of bin i, -1 being the underflow and size() the overflow bin.
+  Ratio counts(int i) const;
+  /// Replaces the counts of bin i (-1: underflow, size(): overflow): how
+  /// saved results are read back (PerformanceDataJson.hpp).
+  void setCounts(int i, const Ratio& counts);
 
   const CountHistogram& numerator() const { return m_numerator; }
   const CountHistogram& denominator() const { return m_denominator; }

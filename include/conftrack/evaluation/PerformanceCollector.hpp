@@ -235,7 +235,10 @@ class PerformanceCollector {
   using Config = PerformanceConfig;
 
   /// @param config evaluation settings
-  explicit PerformanceCollector(Config config = {});
+  /// @param firstIndex index of the first event to come (a shard's first
+  ///        event): results merge as soon as the indices from here on are
+  ///        in, instead of waiting for the summary
+  explicit PerformanceCollector(Config config = {}, std::size_t firstIndex = 0);
 
   /// Evaluates one event; no shared state, callable from any thread.
   /// @param event the event with truth (without truth only times and

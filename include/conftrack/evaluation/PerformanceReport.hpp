@@ -31,6 +31,15 @@
 
 namespace conftrack {
 
+/// The part of a run that one process evaluates (`--shard K/N`): events
+/// [firstEvent, firstEvent + events evaluated) of the run's numbering.
+struct RunShard {
+  std::size_t index = 0;
+  std::size_t count = 1;
+  /// Index of the shard's first event within the run (0-based).
+  std::uint64_t firstEvent = 0;
+};
+
 /// Run metadata supplied by the caller.
 struct RunMetadata {
   /// Program version; empty: the build's CONFTRACK_VERSION.
@@ -44,21 +53,29 @@ struct RunMetadata {
   /// Events requested (0: take the number evaluated).
   std::size_t events = 0;
   std::uint64_t seed = 0;
+  /// Threads of the process (of each shard after a merge; 0 if they
+  /// differed).
   std::size_t threads = 0;
+  /// Which shard of the run this is (index 0 of 1: the whole run).
+  RunShard shard;
+  /// Number of shard reports merged into this one (0: one process).
+  std::size_t mergedShards = 0;
 };
 
 /// The summary as JSON (key order as written below; NaN becomes null).
 ///
 /// Keys: version, detector, sample, overlay_bx, events, seed, threads,
-/// bz_T, events_evaluated, reconstructable_particles, reconstructed_tracks,
-/// fitted_tracks, efficiency {all, pt_above_1GeV, pt_0p1_to_1GeV},
-/// fake_rate, duplicate_rate, time_ms_per_event {simulation, finding,
-/// fitting, reconstruction, steps {name: ms}}, peak_rss_mb; single-particle
-/// samples: pulls {d0, z0, phi0, omega, tanlambda, pt, theta: {mean, width,
-/// mean_error, width_error, entries}} and resolutions [{quantity, unit,
-/// theta_deg, pt_GeV, entries, sigma, sigma_error, mean}]. Extras:
-/// definitions {...}, efficiency_signal, efficiency_background,
-/// efficiency_plot_cuts {theta_plot, pt_plot, all_cuts},
+/// shard {index, count, first_event} (a shard of a run only),
+/// merged_shards (a merge only), bz_T, events_evaluated,
+/// reconstructable_particles, reconstructed_tracks, fitted_tracks, efficiency
+/// {all, pt_above_1GeV, pt_0p1_to_1GeV}, fake_rate, duplicate_rate,
+/// time_ms_per_event {simulation, finding, fitting, reconstruction, steps
+/// {name: ms}}, time_ms_total {simulation, finding, fitting}, timing_note (a
+/// merge only), peak_rss_mb; single-particle samples: pulls {d0, z0, phi0,
+/// omega, tanlambda, pt, theta: {mean, width, mean_error, width_error,
+/// entries}} and resolutions [{quantity, unit, theta_deg, pt_GeV, entries,
+/// sigma, sigma_error, mean}]. Extras: definitions {...}, efficiency_signal,
+/// efficiency_background, efficiency_plot_cuts {theta_plot, pt_plot, all_cuts},
 /// fake_rate_selected, duplicate_rate_selected (nHits >= min_track_hits),
 /// acts {matching_ratio, efficiency, fake_rate, duplicate_rate}, counts
 /// {name: {passed, total, value, uncertainty}} for every ratio, steps

@@ -5,6 +5,7 @@
 /// the folder layout): summary.json, one CSV per distribution, index.html,
 /// and the plots of scripts/conftrack_plots.py.
 
+#include "conftrack/evaluation/PerformanceDataJson.hpp"
 #include "conftrack/evaluation/PerformanceReport.hpp"
 
 #include <filesystem>
@@ -19,6 +20,21 @@ namespace conftrack {
 void writeSummaryJson(const std::filesystem::path& file,
                       const RunMetadata& metadata,
                       const PerformanceSummary& summary);
+
+/// The file of a report that holds its mergeable results.
+inline constexpr const char* kPerformanceDataFile = "performance_data.json";
+
+/// Writes makePerformanceDataJson() to `file` through a temporary file
+/// that is renamed at the end: a report folder that has it is complete.
+/// Throws InputError if the file cannot be written.
+void writePerformanceData(const std::filesystem::path& file,
+                          const RunMetadata& metadata,
+                          const PerformanceSummary& summary);
+
+/// Reads a performance_data.json (parsePerformanceDataJson). Throws
+/// MissingFileError if it does not exist, InputError "file: problem" if it
+/// cannot be read or parsed.
+SavedPerformance readPerformanceData(const std::filesystem::path& file);
 
 /// Writes one ratio histogram as CSV; x values are divided by `unit`
 /// (e.g. units::degree to write degrees).
@@ -70,7 +86,8 @@ PlotScriptResult runPlotScript(const std::filesystem::path& directory,
 
 /// Writes the whole report into `directory` (created if needed):
 /// summary.json, the CSV files, a plain index.html, then, if `plots`, runs
-/// the plot script (which adds the PNGs and a full index.html). Returns the
+/// the plot script (which adds the PNGs and a full index.html), and last
+/// performance_data.json (the mark of a complete report). Returns the
 /// plot script's result (plotted = false when `plots` is false).
 PlotScriptResult writePerformanceReport(const std::filesystem::path& directory,
                                         const RunMetadata& metadata,
