@@ -24,9 +24,11 @@ json parseJsonObject(std::string_view text, const std::string& source) {
   json document;
   try {
     document = json::parse(text);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {
     // "[json.exception.parse_error.101] parse error at line 1, column 2:
-    // ..." names the place; keep it on one line.
+    // ..." names the place; keep it on one line. A number beyond the range
+    // of a double is an out_of_range error ("number overflow parsing
+    // '1e9999'"), not a parse_error.
     std::string what = error.what();
     const auto colon = what.find("] ");
     throw InputError(source, "invalid JSON: " + (colon == std::string::npos

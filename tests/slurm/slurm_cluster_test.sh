@@ -88,7 +88,8 @@ munged -f --socket="$work/munge/munge.sock" --key-file="$work/munge/munge.key" \
   fail "munged did not start"
 
 # --- slurm.conf: this host as the only node, on 127.0.0.1, free ports
-node=$(hostname -s)
+node=$(uname -n)
+node=${node%%.*}
 read -r ctld_port slurmd_port < <(python3 -c '
 import socket
 socks = [socket.socket() for _ in range(2)]
