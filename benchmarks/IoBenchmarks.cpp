@@ -2,8 +2,8 @@
 /// Throughput of the TrackML CSV reader and writer on a real Kaggle event
 /// (event 1001: 93,680 hits).
 
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
 

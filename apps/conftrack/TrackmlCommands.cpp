@@ -4,6 +4,7 @@
 
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/evaluation/SimulationValidation.hpp"
 #include "conftrack/frontend/SubmissionScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
@@ -11,7 +12,6 @@
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
 #include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"

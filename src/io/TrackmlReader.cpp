@@ -1,12 +1,12 @@
 #include "conftrack/io/TrackmlReader.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
 #include "conftrack/io/HitRows.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 

@@ -1,11 +1,11 @@
 #include "conftrack/io/TrackmlWriter.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 

@@ -3,10 +3,10 @@
 /// Kaggle TrackML events.
 
 #include "conftrack/core/Event.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"

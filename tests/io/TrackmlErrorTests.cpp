@@ -3,9 +3,9 @@
 /// "file:line: problem", never a crash or silently wrong data.
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
 

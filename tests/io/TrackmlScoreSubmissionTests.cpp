@@ -3,10 +3,10 @@
 /// Kaggle events read with the TrackML detector.
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/frontend/SubmissionScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"

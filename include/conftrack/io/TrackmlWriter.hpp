@@ -12,7 +12,7 @@
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Particle.hpp"
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
 
 #include <filesystem>
 #include <vector>
