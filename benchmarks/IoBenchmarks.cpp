@@ -39,7 +39,7 @@ void BM_ReadTrackmlHitsGzDetector(benchmark::State& state) {
   const conftrack::Detector detector = conftrack::loadDetector("trackml");
   std::size_t n = 0;
   for (auto _ : state) {
-    auto hits = conftrack::readHits(kHits, &detector);
+    auto hits = conftrack::readHits(kHits, &detector.trackmlLayerMap());
     n = hits.size();
     benchmark::DoNotOptimize(hits.data());
   }

@@ -180,7 +180,7 @@ void runTrackmlSim(const TrackmlSimOptions& opt) {
   prepareOutputFolder(opt.output, "-o");
   forEachEvent(numbers.size(), opt.threads, "simulate", [&](std::size_t i) {
     writeEvent(opt.output, setup.simulate(opt.input, numbers[i]).simulated,
-               &setup.detector, {});
+               &setup.detector.trackmlLayerMap(), {});
   });
 }
 
@@ -297,7 +297,8 @@ void runValidate(const ValidateOptions& opt) {
     std::vector<VolumeLayer> simulatedHits;
     simulatedHits.reserve(pair.simulated.hits.size());
     for (const Hit& h : pair.simulated.hits) {
-      const std::optional<TrackmlId> id = toTrackml(h.detId, &setup.detector);
+      const std::optional<TrackmlId> id =
+          toTrackml(h.detId, &setup.detector.trackmlLayerMap());
       if (id) {
         simulatedHits.push_back({id->volume, id->layer});
       }

@@ -92,7 +92,8 @@ Outcome trackmlHits(std::string_view data) {
   return either(
       refusedOr([&] { parseHits(std::string(data), "hits.csv", nullptr); }),
       refusedOr([&] {
-        parseHits(std::string(data), "hits.csv", &shippedDetector("trackml"));
+        parseHits(std::string(data), "hits.csv",
+                  &shippedDetector("trackml").trackmlLayerMap());
       }));
 }
 
