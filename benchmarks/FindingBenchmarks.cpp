@@ -117,7 +117,7 @@ void findTrackmlReal(benchmark::State& state) {
       readHits(std::filesystem::path(CONFTRACK_TEST_DATA_DIR) /
                    "trackml/train_100_events_no_truth/"
                    "event000001001-hits.csv.gz",
-               &det);
+               &det.trackmlLayerMap());
   ConformalTrackFinder finder(det,
                               {readChain(resolveChainPath("trackml"), det)});
   std::size_t tracks = 0;

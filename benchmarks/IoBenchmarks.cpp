@@ -2,8 +2,8 @@
 /// Throughput of the TrackML CSV reader and writer on a real Kaggle event
 /// (event 1001: 93,680 hits).
 
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
 
@@ -39,7 +39,7 @@ void BM_ReadTrackmlHitsGzDetector(benchmark::State& state) {
   const conftrack::Detector detector = conftrack::loadDetector("trackml");
   std::size_t n = 0;
   for (auto _ : state) {
-    auto hits = conftrack::readHits(kHits, &detector);
+    auto hits = conftrack::readHits(kHits, &detector.trackmlLayerMap());
     n = hits.size();
     benchmark::DoNotOptimize(hits.data());
   }

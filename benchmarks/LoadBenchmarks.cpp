@@ -38,7 +38,8 @@ const std::vector<Event>& realEvents() {
         "trackml/train_100_events_no_truth";
     std::vector<Event> out;
     for (std::uint64_t n : {1001, 1003, 1005, 1009, 1010}) {
-      out.push_back(readEvent(dir, n, &trackml(), ReadOptions{false, false}));
+      out.push_back(readEvent(dir, n, &trackml().trackmlLayerMap(),
+                              ReadOptions{false, false}));
     }
     return out;
   }();

@@ -3,12 +3,12 @@
 // crossings of gamma gamma -> hadrons) in CLICdet, a CLICdet tt-bar event
 // with 30 BX, and a real TrackML event's particles on the TrackML sensors.
 
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/geometry/LayoutFile.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
-#include "conftrack/io/LayoutFile.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
 #include "conftrack/simulation/Simulator.hpp"

@@ -1,7 +1,7 @@
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
-#include "conftrack/io/TextFile.hpp"
 
 #include <cstdio>
 #include <iostream>

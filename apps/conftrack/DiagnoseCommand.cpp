@@ -3,8 +3,8 @@
 // production radius bins; docs/diagnostics.md).
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/evaluation/TrackmlDiagnostics.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
 
 #include <nlohmann/json.hpp>

@@ -33,8 +33,8 @@ void runDisplay(const DisplayOptions& opt) {
   std::vector<std::uint64_t> numbers = requireEvents(opt.input);
   prepareOutputFile(opt.output, "-o");
   std::uint64_t number = opt.event.value_or(numbers.front());
-  Event event =
-      readEvent(opt.input, number, &detector, ReadOptions{false, false});
+  Event event = readEvent(opt.input, number, &detector.trackmlLayerMap(),
+                          ReadOptions{false, false});
   std::vector<Track> tracks;
   if (!opt.tracks.empty()) {
     tracks = readTracks(opt.tracks, number, event.hits);

@@ -41,7 +41,7 @@ void runEvaluate(const EvaluateOptions& opt) {
                                  first);
   forEachEvent(last - first, opt.threads, "evaluate", [&](std::size_t i) {
     const std::uint64_t number = numbers[first + i];
-    Event event = readEvent(opt.events, number, &detector);
+    Event event = readEvent(opt.events, number, &detector.trackmlLayerMap());
     if (!event.hasTruth()) {
       throw InputError(opt.events, "event " + std::to_string(number) +
                                        " has no truth file: nothing to "

@@ -41,13 +41,13 @@ void runOverlay(const OverlayOptions& opt) {
   std::vector<Event> inputs;
   inputs.reserve(numbers.size());
   for (std::uint64_t n : numbers) {
-    inputs.push_back(
-        readEvent(opt.input, n, &detector, ReadOptions{false, false}));
+    inputs.push_back(readEvent(opt.input, n, &detector.trackmlLayerMap(),
+                               ReadOptions{false, false}));
   }
   Event out = overlayEvents(inputs, opt.overlay);
   WriteOptions wo;
   wo.gzip = opt.gzip;
-  writeEvent(opt.output, out, &detector, wo);
+  writeEvent(opt.output, out, &detector.trackmlLayerMap(), wo);
   std::printf("event %llu: %zu hits from %zu events x %u copies in %s\n",
               static_cast<unsigned long long>(out.number), out.hits.size(),
               inputs.size(), opt.overlay.copies, opt.output.c_str());

@@ -54,8 +54,8 @@ void runReconstruct(const ReconstructOptions& opt) {
   prepareOutputFolder(opt.output, "-o");
   std::vector<EventReport> reports(events.size());
   forEachEvent(events.size(), opt.threads, "reconstruct", [&](std::size_t i) {
-    Event event =
-        readEvent(opt.input, events[i], &detector, ReadOptions{false, false});
+    Event event = readEvent(opt.input, events[i], &detector.trackmlLayerMap(),
+                            ReadOptions{false, false});
     Reconstruction::Result r = reco.run(event.hits);
     WriteOptions wo;
     wo.gzip = opt.gzip;

@@ -77,7 +77,7 @@ void runSimulate(const SimulateOptions& opt) {
                                << ", seed " << opt.sample.seed);
   forEachEvent(counts.size(), opt.threads, "simulate", [&](std::size_t i) {
     Event event = sim.simulate(firstNumber + i);
-    writeEvent(opt.output, event, &detector, {opt.gzip});
+    writeEvent(opt.output, event, &detector.trackmlLayerMap(), {opt.gzip});
     if (opt.summary) {
       counts[i] = countEvent(event);
     }

@@ -4,6 +4,7 @@
 
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/evaluation/SimulationValidation.hpp"
 #include "conftrack/frontend/SubmissionScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
@@ -11,7 +12,6 @@
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
 #include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
@@ -180,7 +180,7 @@ void runTrackmlSim(const TrackmlSimOptions& opt) {
   prepareOutputFolder(opt.output, "-o");
   forEachEvent(numbers.size(), opt.threads, "simulate", [&](std::size_t i) {
     writeEvent(opt.output, setup.simulate(opt.input, numbers[i]).simulated,
-               &setup.detector, {});
+               &setup.detector.trackmlLayerMap(), {});
   });
 }
 
@@ -297,7 +297,8 @@ void runValidate(const ValidateOptions& opt) {
     std::vector<VolumeLayer> simulatedHits;
     simulatedHits.reserve(pair.simulated.hits.size());
     for (const Hit& h : pair.simulated.hits) {
-      const std::optional<TrackmlId> id = toTrackml(h.detId, &setup.detector);
+      const std::optional<TrackmlId> id =
+          toTrackml(h.detId, &setup.detector.trackmlLayerMap());
       if (id) {
         simulatedHits.push_back({id->volume, id->layer});
       }

@@ -4,10 +4,10 @@
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/JsonEntry.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/evaluation/ShardMerge.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackFiles.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
@@ -92,7 +92,8 @@ Outcome trackmlHits(std::string_view data) {
   return either(
       refusedOr([&] { parseHits(std::string(data), "hits.csv", nullptr); }),
       refusedOr([&] {
-        parseHits(std::string(data), "hits.csv", &shippedDetector("trackml"));
+        parseHits(std::string(data), "hits.csv",
+                  &shippedDetector("trackml").trackmlLayerMap());
       }));
 }
 

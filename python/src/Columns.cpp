@@ -225,7 +225,7 @@ py::dict hitColumns(std::span<const Hit> hits, const Detector* detector) {
   std::optional<TrackmlId> last;
   for (std::size_t i = 0; i < n; ++i) {
     if (!last || !hits[i].detId.sameLayer(lastLayer)) {
-      last = toTrackml(hits[i].detId, detector);
+      last = toTrackml(hits[i].detId, trackmlLayerMapOf(detector));
       lastLayer = hits[i].detId;
       if (!last) {
         throw InputError("hit_id " + std::to_string(hits[i].id) +
@@ -338,7 +338,7 @@ std::vector<Hit> hitsFromColumns(const py::handle& columns,
   const std::optional<Column> sigmaU = table.find(c::kSigmaU);
   const std::optional<Column> sigmaV = table.find(c::kSigmaV);
   const std::size_t n = table.rows();
-  HitRowBuilder builder(detector);
+  HitRowBuilder builder(trackmlLayerMapOf(detector));
   std::vector<Hit> hits;
   hits.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {

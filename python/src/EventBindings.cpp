@@ -104,7 +104,7 @@ void bindEvents(py::module_& m) {
         std::vector<Hit> hits;
         {
           py::gil_scoped_release release;
-          hits = readHits(path, d.get());
+          hits = readHits(path, trackmlLayerMapOf(d.get()));
         }
         return hitColumns(hits, d.get());
       },
@@ -118,7 +118,7 @@ void bindEvents(py::module_& m) {
         e.detector = detectorOf(detector);
         py::gil_scoped_release release;
         e.event = std::make_shared<const Event>(
-            readEvent(folder, number, e.detector.get()));
+            readEvent(folder, number, trackmlLayerMapOf(e.detector.get())));
         return e;
       },
       py::arg("folder"), py::arg("event_number"),

@@ -2,9 +2,9 @@
 
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
+#include "conftrack/geometry/LayoutFile.hpp"
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
-#include "conftrack/io/LayoutFile.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 
 #include <filesystem>

@@ -3,8 +3,8 @@
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/JsonEntry.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
-#include "conftrack/io/TextFile.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,29 +1,34 @@
 #include "conftrack/geometry/Detector.hpp"
 
-#include <algorithm>
+#include <utility>
 
 namespace conftrack {
 
 namespace {
-std::uint64_t idKey(const DetectorId& id) {
-  return (static_cast<std::uint64_t>(id.subdetector) << 32) |
-         (static_cast<std::uint64_t>(static_cast<std::uint8_t>(id.side))
-          << 16) |
-         id.layer;
-}
-std::uint64_t trackmlKey(std::uint32_t volume, std::uint32_t layer) {
-  return (static_cast<std::uint64_t>(volume) << 32) | layer;
-}
-std::optional<std::uint32_t> lookup(
-    const std::vector<std::pair<std::uint64_t, std::uint32_t>>& index,
-    std::uint64_t key) {
-  auto it = std::lower_bound(
-      index.begin(), index.end(), key,
-      [](const auto& entry, std::uint64_t k) { return entry.first < k; });
-  if (it == index.end() || it->first != key) {
-    return std::nullopt;
+/// The TrackML view of `layers` (the fields the io functions use).
+std::vector<TrackmlLayer> trackmlLayers(
+    const std::vector<SensitiveLayer>& layers) {
+  std::vector<TrackmlLayer> out;
+  out.reserve(layers.size());
+  for (const SensitiveLayer& l : layers) {
+    TrackmlLayer t;
+    t.name = l.name;
+    t.id = l.id;
+    t.volume = l.trackmlVolume;
+    t.layer = l.trackmlLayer;
+    t.disk = l.isDisk();
+    t.r = l.r;
+    t.zMin = l.zMin;
+    t.zMax = l.zMax;
+    t.rMin = l.rMin;
+    t.rMax = l.rMax;
+    t.sigmaU = l.sigmaU;
+    t.sigmaV = l.sigmaV;
+    t.nPhiModules = l.nPhiModules;
+    t.nZModules = l.nZModules;
+    out.push_back(std::move(t));
   }
-  return it->second;
+  return out;
 }
 }  // namespace
 
@@ -39,15 +44,8 @@ Detector::Detector(std::string name, std::string model, double bz,
       m_envelopeZ(envelopeZ),
       m_subdetectors(std::move(subdetectors)),
       m_layers(std::move(layers)),
-      m_passives(std::move(passives)) {
-  for (std::uint32_t i = 0; i < m_layers.size(); ++i) {
-    m_idIndex.emplace_back(idKey(m_layers[i].id), i);
-    m_trackmlIndex.emplace_back(
-        trackmlKey(m_layers[i].trackmlVolume, m_layers[i].trackmlLayer), i);
-  }
-  std::sort(m_idIndex.begin(), m_idIndex.end());
-  std::sort(m_trackmlIndex.begin(), m_trackmlIndex.end());
-}
+      m_passives(std::move(passives)),
+      m_trackml(m_name, m_envelopeR, m_envelopeZ, trackmlLayers(m_layers)) {}
 
 std::optional<std::uint16_t> Detector::findSubdetector(
     std::string_view name) const {
@@ -60,12 +58,12 @@ std::optional<std::uint16_t> Detector::findSubdetector(
 }
 
 std::optional<std::uint32_t> Detector::findLayer(const DetectorId& id) const {
-  return lookup(m_idIndex, idKey(id));
+  return m_trackml.find(id);
 }
 
 std::optional<std::uint32_t> Detector::findTrackmlLayer(
     std::uint32_t volume, std::uint32_t layer) const {
-  return lookup(m_trackmlIndex, trackmlKey(volume, layer));
+  return m_trackml.findTrackml(volume, layer);
 }
 
 }  // namespace conftrack

@@ -1,5 +1,7 @@
 #include "conftrack/geometry/Surfaces.hpp"
 
+#include "conftrack/core/Hit.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -30,11 +32,7 @@ std::uint32_t SensitiveLayer::moduleAt(const Vector3& position) const {
 
 void SensitiveLayer::localAxes(const Vector3& position, Vector3& uAxis,
                                Vector3& vAxis) const {
-  double r = position.head<2>().norm();
-  double c = r > 0.0 ? position.x() / r : 1.0;
-  double s = r > 0.0 ? position.y() / r : 0.0;
-  uAxis = Vector3(-s, c, 0.0);
-  vAxis = isDisk() ? Vector3(c, s, 0.0) : Vector3(0.0, 0.0, 1.0);
+  localMeasurementAxes(position, isDisk(), uAxis, vAxis);
 }
 
 }  // namespace conftrack

@@ -11,8 +11,8 @@
 #include <string>
 
 // The TrackML module table (detectors.csv): a strict CSV parser and the
-// module geometry. The geometry module has no gzip or CSV reader of its own
-// (they live in io, which depends on geometry), so a minimal one is here.
+// module geometry. The geometry module has no CSV reader of its own (it
+// lives in io, which geometry does not depend on), so a minimal one is here.
 
 namespace conftrack {
 

@@ -2,7 +2,7 @@
 
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/TextFields.hpp"
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
 
 #include <algorithm>
 #include <cstring>

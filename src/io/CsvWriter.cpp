@@ -1,7 +1,7 @@
 #include "conftrack/io/CsvWriter.hpp"
 
 #include "conftrack/core/Error.hpp"
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,7 +1,6 @@
 #include "conftrack/io/HitRows.hpp"
 
 #include "conftrack/core/Units.hpp"
-#include "conftrack/geometry/Detector.hpp"
 
 #include <cmath>
 #include <iomanip>
@@ -36,7 +35,7 @@ std::string millimetres(double value) {
 /// (volume_id, layer_id) names: such a file is corrupt or belongs to
 /// another detector, and reconstruction would silently produce nonsense.
 void checkOnLayer(const HitRowErrors& errors, const Hit& hit,
-                  const SensitiveLayer& layer, const Detector& detector) {
+                  const TrackmlLayer& layer, const TrackmlLayerMap& detector) {
   // hypot: x^2 + y^2 overflows for the 1e308 of a corrupt file.
   const double r = std::hypot(hit.position.x(), hit.position.y());
   const double z = hit.position.z();
@@ -47,18 +46,18 @@ void checkOnLayer(const HitRowErrors& errors, const Hit& hit,
   };
   if (!(r <= detector.envelopeR() && std::abs(z) <= detector.envelopeZ())) {
     errors.fail(at() + " lies outside the tracker of detector '" +
-                detector.name() +
+                detector.detectorName() +
                 "' (r <= " + millimetres(detector.envelopeR()) +
                 ", |z| <= " + millimetres(detector.envelopeZ()) + ")");
   }
-  const bool on = layer.isDisk() ? std::abs(z - layer.z()) <= kLayerTolerance &&
-                                       r >= layer.rMin - kLayerTolerance &&
-                                       r <= layer.rMax + kLayerTolerance
-                                 : std::abs(r - layer.r) <= kLayerTolerance &&
-                                       z >= layer.zMin - kLayerTolerance &&
-                                       z <= layer.zMax + kLayerTolerance;
+  const bool on = layer.disk ? std::abs(z - layer.z()) <= kLayerTolerance &&
+                                   r >= layer.rMin - kLayerTolerance &&
+                                   r <= layer.rMax + kLayerTolerance
+                             : std::abs(r - layer.r) <= kLayerTolerance &&
+                                   z >= layer.zMin - kLayerTolerance &&
+                                   z <= layer.zMax + kLayerTolerance;
   if (!on) {
-    const std::string surface = layer.isDisk()
+    const std::string surface = layer.disk
                                     ? "z = " + millimetres(layer.z()) + ", " +
                                           millimetres(layer.rMin) +
                                           " <= r <= " + millimetres(layer.rMax)
@@ -72,16 +71,17 @@ void checkOnLayer(const HitRowErrors& errors, const Hit& hit,
 
 }  // namespace
 
-HitRowBuilder::HitRowBuilder(const Detector* detector) : m_detector(detector) {}
+HitRowBuilder::HitRowBuilder(const TrackmlLayerMap* layers)
+    : m_layers(layers) {}
 
-const SensitiveLayer* HitRowBuilder::findLayer(std::uint32_t volume,
-                                               std::uint32_t layer) {
+const TrackmlLayer* HitRowBuilder::findLayer(std::uint32_t volume,
+                                             std::uint32_t layer) {
   if (m_layer == nullptr || volume != m_volume || layer != m_layerId) {
-    auto index = m_detector->findTrackmlLayer(volume, layer);
+    auto index = m_layers->findTrackml(volume, layer);
     if (!index) {
       return nullptr;
     }
-    m_layer = &m_detector->layers()[*index];
+    m_layer = &m_layers->layers()[*index];
     m_volume = volume;
     m_layerId = layer;
   }
@@ -108,12 +108,13 @@ Hit HitRowBuilder::build(const HitRow& row, const HitRowErrors& errors) {
                 "layer is there and conformal coordinates are undefined");
   }
   const TrackmlId& tid = row.trackml;
-  if (m_detector != nullptr) {
-    const SensitiveLayer* layer = findLayer(tid.volume, tid.layer);
+  if (m_layers != nullptr) {
+    const TrackmlLayer* layer = findLayer(tid.volume, tid.layer);
     if (layer == nullptr) {
       errors.fail("(volume_id, layer_id) = (" + std::to_string(tid.volume) +
                   ", " + std::to_string(tid.layer) +
-                  ") is not a layer of detector '" + m_detector->name() + "'");
+                  ") is not a layer of detector '" + m_layers->detectorName() +
+                  "'");
     }
     if (static_cast<std::uint64_t>(tid.module) >=
         static_cast<std::uint64_t>(layer->nPhiModules) * layer->nZModules) {
@@ -122,7 +123,7 @@ Hit HitRowBuilder::build(const HitRow& row, const HitRowErrors& errors) {
                                                        layer->nZModules) +
                                         " modules of layer " + layer->name);
     }
-    checkOnLayer(errors, hit, *layer, *m_detector);
+    checkOnLayer(errors, hit, *layer, *m_layers);
     hit.detId = layer->id;
     hit.detId.module = tid.module;
     layer->localAxes(hit.position, hit.uAxis, hit.vAxis);

@@ -1,11 +1,11 @@
 #include "conftrack/io/TrackFiles.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 
 #include <stdexcept>
 #include <unordered_map>

@@ -1,12 +1,11 @@
 #include "conftrack/io/TrackmlReader.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
-#include "conftrack/geometry/Detector.hpp"
 #include "conftrack/io/CsvReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
 #include "conftrack/io/HitRows.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 
@@ -103,7 +102,7 @@ double nonNegative(const CsvReader& csv, std::size_t column) {
 }  // namespace
 
 std::vector<Hit> parseHits(std::string text, const std::string& source,
-                           const Detector* detector) {
+                           const TrackmlLayerMap* layers) {
   namespace c = trackml::hits;
   CsvReader csv(std::move(text), source);
   const std::size_t cId = csv.requireColumn(c::kHitId);
@@ -114,7 +113,7 @@ std::vector<Hit> parseHits(std::string text, const std::string& source,
   const auto cSigmaU = csv.findColumn(c::kSigmaU);
   const auto cSigmaV = csv.findColumn(c::kSigmaV);
 
-  HitRowBuilder builder(detector);
+  HitRowBuilder builder(layers);
   const CsvRowErrors errors(csv);
   std::vector<Hit> hits;
   hits.reserve(csv.estimateRows());
@@ -233,8 +232,8 @@ std::vector<Particle> parseParticles(std::string text,
 }
 
 std::vector<Hit> readHits(const std::filesystem::path& file,
-                          const Detector* detector) {
-  return parseHits(readTextFile(file), file.string(), detector);
+                          const TrackmlLayerMap* layers) {
+  return parseHits(readTextFile(file), file.string(), layers);
 }
 
 std::vector<HitTruth> readTruth(const std::filesystem::path& file,
@@ -247,7 +246,7 @@ std::vector<Particle> readParticles(const std::filesystem::path& file) {
 }
 
 Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,
-                const Detector* detector, const ReadOptions& options) {
+                const TrackmlLayerMap* layers, const ReadOptions& options) {
   EventFiles files = EventFiles::locate(dir, eventNumber);
   if (!files.hits) {
     throw MissingFileError(
@@ -257,7 +256,7 @@ Event readEvent(const std::filesystem::path& dir, std::uint64_t eventNumber,
   }
   Event event;
   event.number = eventNumber;
-  event.hits = readHits(*files.hits, detector);
+  event.hits = readHits(*files.hits, layers);
   if (options.truth && files.truth) {
     event.truth = readTruth(*files.truth, event.hits);
   }

@@ -1,11 +1,10 @@
 #include "conftrack/io/TrackmlWriter.hpp"
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
-#include "conftrack/geometry/Detector.hpp"
 #include "conftrack/io/CsvWriter.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlFormat.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 
@@ -25,7 +24,7 @@ std::string describe(const DetectorId& id) {
 }  // namespace
 
 void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,
-               const Detector* detector, int gzipLevel) {
+               const TrackmlLayerMap* layers, int gzipLevel) {
   namespace c = trackml::hits;
   // Resolutions all 0 mean "unknown" (e.g. Kaggle hits read without a
   // detector): leave the columns out, so that a later read with a detector
@@ -45,13 +44,14 @@ void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,
   std::optional<TrackmlId> last;
   for (const Hit& hit : hits) {
     if (!last || !hit.detId.sameLayer(lastLayer)) {
-      last = toTrackml(hit.detId, detector);
+      last = toTrackml(hit.detId, layers);
       lastLayer = hit.detId;
       if (!last) {
         csv.fail("hit_id " + std::to_string(hit.id) + ": detector id " +
                  describe(hit.detId) +
-                 (detector != nullptr
-                      ? " is not a layer of detector '" + detector->name() + "'"
+                 (layers != nullptr
+                      ? " is not a layer of detector '" +
+                            layers->detectorName() + "'"
                       : std::string(" is not on the barrel side: without a "
                                     "detector only raw barrel ids can be "
                                     "written")));
@@ -131,7 +131,7 @@ void writeParticles(const std::filesystem::path& file,
 }
 
 void writeEvent(const std::filesystem::path& dir, const Event& event,
-                const Detector* detector, const WriteOptions& options) {
+                const TrackmlLayerMap* layers, const WriteOptions& options) {
   if (event.hasTruth() && event.truth.size() != event.hits.size()) {
     throw std::invalid_argument("writeEvent: truth not parallel to hits");
   }
@@ -152,7 +152,7 @@ void writeEvent(const std::filesystem::path& dir, const Event& event,
     removeIfExists(path(kind, !gz));
   };
   write(EventFileKind::eHits, [&](const std::filesystem::path& f) {
-    writeHits(f, event.hits, detector, options.gzipLevel);
+    writeHits(f, event.hits, layers, options.gzipLevel);
   });
   if (event.hasTruth()) {
     write(EventFileKind::eTruth, [&](const std::filesystem::path& f) {

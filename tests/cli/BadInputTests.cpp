@@ -3,7 +3,7 @@
 // naming the file and line, the key or the option. One row per class; the
 // rows are the table of docs/bad-input.md.
 
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,10 +3,10 @@
 // Hand-made events and tracks for the evaluation tests (no simulation).
 
 #include "conftrack/core/Event.hpp"
+#include "conftrack/core/Track.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/evaluation/PerformanceCollector.hpp"
 #include "conftrack/evaluation/TrackResiduals.hpp"
-#include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
 
 #include <cmath>

@@ -3,10 +3,10 @@
 /// Kaggle TrackML events.
 
 #include "conftrack/core/Event.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
@@ -178,14 +178,15 @@ TEST_P(RoundTrip, WriteThenReadIsBitIdentical) {
   const bool gzip = GetParam();
   TempDir dir;
   Event event = makeEvent(clicdet(), 123);
-  writeEvent(dir.path(), event, &clicdet(), WriteOptions{gzip});
+  writeEvent(dir.path(), event, &clicdet().trackmlLayerMap(),
+             WriteOptions{gzip});
 
   for (auto kind : {EventFileKind::eHits, EventFileKind::eTruth,
                     EventFileKind::eParticles}) {
     EXPECT_TRUE(fs::exists(dir.path() / eventFileName(123, kind, gzip)));
     EXPECT_FALSE(fs::exists(dir.path() / eventFileName(123, kind, !gzip)));
   }
-  Event back = readEvent(dir.path(), 123, &clicdet());
+  Event back = readEvent(dir.path(), 123, &clicdet().trackmlLayerMap());
   expectSameEvent(event, back);
 }
 
@@ -197,8 +198,9 @@ INSTANTIATE_TEST_SUITE_P(PlainAndGzip, RoundTrip, ::testing::Bool(),
 TEST(TrackmlCsv, RoundTripWithUnorderedHitIds) {
   TempDir dir;
   Event event = makeEvent(clicdet(), 7, false);
-  writeEvent(dir.path(), event, &clicdet());
-  expectSameEvent(event, readEvent(dir.path(), 7, &clicdet()));
+  writeEvent(dir.path(), event, &clicdet().trackmlLayerMap());
+  expectSameEvent(event,
+                  readEvent(dir.path(), 7, &clicdet().trackmlLayerMap()));
 }
 
 TEST(TrackmlCsv, FileNames) {
@@ -212,9 +214,9 @@ TEST(TrackmlCsv, FileNames) {
 
 TEST(TrackmlCsv, ListEvents) {
   TempDir dir;
-  writeEvent(dir.path(), makeEvent(clicdet(), 12), &clicdet(),
+  writeEvent(dir.path(), makeEvent(clicdet(), 12), &clicdet().trackmlLayerMap(),
              WriteOptions{true});
-  writeEvent(dir.path(), makeEvent(clicdet(), 3), &clicdet());
+  writeEvent(dir.path(), makeEvent(clicdet(), 3), &clicdet().trackmlLayerMap());
   writeText(dir.path() / "event000000099-particles.csv", "");  // no hits
   writeText(dir.path() / "eventX-hits.csv", "");
   writeText(dir.path() / "notes.txt", "");
@@ -226,22 +228,25 @@ TEST(TrackmlCsv, ListEvents) {
 TEST(TrackmlCsv, RewriteReplacesOtherCompressionAndStaleTruth) {
   TempDir dir;
   Event event = makeEvent(clicdet(), 5);
-  writeEvent(dir.path(), event, &clicdet(), WriteOptions{true});
+  writeEvent(dir.path(), event, &clicdet().trackmlLayerMap(),
+             WriteOptions{true});
   event.truth.clear();
-  writeEvent(dir.path(), event, &clicdet(), WriteOptions{false});
+  writeEvent(dir.path(), event, &clicdet().trackmlLayerMap(),
+             WriteOptions{false});
   EventFiles files = EventFiles::locate(dir.path(), 5);
   ASSERT_TRUE(files.hits);
   EXPECT_EQ(files.hits->filename(), "event000000005-hits.csv");
   EXPECT_FALSE(files.truth);
-  Event back = readEvent(dir.path(), 5, &clicdet());
+  Event back = readEvent(dir.path(), 5, &clicdet().trackmlLayerMap());
   EXPECT_FALSE(back.hasTruth());
   expectSameEvent(event, back);
 }
 
 TEST(TrackmlCsv, ReadOptionsSkipTruthAndParticles) {
   TempDir dir;
-  writeEvent(dir.path(), makeEvent(clicdet(), 5), &clicdet());
-  Event back = readEvent(dir.path(), 5, &clicdet(), ReadOptions{false, false});
+  writeEvent(dir.path(), makeEvent(clicdet(), 5), &clicdet().trackmlLayerMap());
+  Event back = readEvent(dir.path(), 5, &clicdet().trackmlLayerMap(),
+                         ReadOptions{false, false});
   EXPECT_FALSE(back.hits.empty());
   EXPECT_TRUE(back.truth.empty());
   EXPECT_TRUE(back.particles.empty());
@@ -254,7 +259,7 @@ TEST(TrackmlCsv, ColumnsByNameAnyOrderUnknownIgnored) {
             "module_id,comment,z,layer_id,y,x,volume_id,hit_id\r\n"
             "3,7,12.5,2,0,31.165,1,42\r\n"
             "\r\n");
-  auto hits = readHits(dir.path() / "hits.csv", &clicdet());
+  auto hits = readHits(dir.path() / "hits.csv", &clicdet().trackmlLayerMap());
   ASSERT_EQ(hits.size(), 1u);
   const SensitiveLayer& layer = clicdet().layers()[0];
   EXPECT_EQ(hits[0].id, 42u);
@@ -296,14 +301,14 @@ TEST(TrackmlCsv, TrackmlIdMappingWithDetector) {
   for (const SensitiveLayer& layer : clicdet().layers()) {
     DetectorId id = layer.id;
     id.module = layer.nPhiModules * layer.nZModules - 1;
-    auto tid = toTrackml(id, &clicdet());
+    auto tid = toTrackml(id, &clicdet().trackmlLayerMap());
     ASSERT_TRUE(tid);
     EXPECT_EQ(tid->volume, layer.trackmlVolume);
     EXPECT_EQ(tid->layer, layer.trackmlLayer);
     EXPECT_EQ(tid->module, id.module);
-    EXPECT_EQ(fromTrackml(*tid, &clicdet()), id);
+    EXPECT_EQ(fromTrackml(*tid, &clicdet().trackmlLayerMap()), id);
     ++tid->module;
-    EXPECT_FALSE(fromTrackml(*tid, &clicdet()));
+    EXPECT_FALSE(fromTrackml(*tid, &clicdet().trackmlLayerMap()));
   }
 }
 

@@ -3,9 +3,9 @@
 /// "file:line: problem", never a crash or silently wrong data.
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/io/EventFiles.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
 
@@ -66,7 +66,8 @@ class TrackmlErrors : public ::testing::Test {
   std::string hitsError(const std::string& text, std::size_t line,
                         const Detector* detector = nullptr) {
     fs::path file = write("hits.csv", text);
-    return errorOf([&] { readHits(file, detector); }, file, line);
+    return errorOf([&] { readHits(file, trackmlLayerMapOf(detector)); }, file,
+                   line);
   }
 
   test::TempDir m_tmp;
@@ -250,7 +251,7 @@ TEST_F(TrackmlErrors, HitOnBeamLine) {
 TEST_F(TrackmlErrors, HitOutsideTheTracker) {
   // CLICdet VertexBarrel layer 0 is (volume 1, layer 2) at r = 31.165 mm.
   EXPECT_EQ(readHits(write("ok.csv", kHitsHeader + "1,31.165,0,10,1,2,0\n"),
-                     &clicdet())
+                     &clicdet().trackmlLayerMap())
                 .size(),
             1u);
   EXPECT_THAT(
@@ -297,8 +298,9 @@ TEST_F(TrackmlErrors, CrLfReadsLikeLf) {
        i += 2) {
     crlf.insert(i, "\r");
   }
-  auto lf = readHits(write("lf.csv", kHitsHeader + rows), &clicdet());
-  auto dos = readHits(write("crlf.csv", crlf), &clicdet());
+  auto lf = readHits(write("lf.csv", kHitsHeader + rows),
+                     &clicdet().trackmlLayerMap());
+  auto dos = readHits(write("crlf.csv", crlf), &clicdet().trackmlLayerMap());
   ASSERT_EQ(lf.size(), 2u);
   ASSERT_EQ(dos.size(), 2u);
   for (std::size_t i = 0; i < lf.size(); ++i) {
@@ -319,7 +321,9 @@ TEST_F(TrackmlErrors, NonUtf8BytesAreMaskedInMessages) {
 }
 
 TEST_F(TrackmlErrors, HeaderOnlyHitsFileIsAnEmptyEvent) {
-  EXPECT_TRUE(readHits(write("hits.csv", kHitsHeader), &clicdet()).empty());
+  EXPECT_TRUE(
+      readHits(write("hits.csv", kHitsHeader), &clicdet().trackmlLayerMap())
+          .empty());
 }
 
 TEST_F(TrackmlErrors, EmptyFile) {
@@ -452,8 +456,10 @@ TEST_F(TrackmlErrors, WriterRefusesIdsItCannotMap) {
   EXPECT_THAT(errorOf([&] { writeHits(file, hits, nullptr); }, file, 2),
               HasSubstr("not on the barrel side"));
   hits[0].detId = DetectorId{999, Side::eBarrel, 0, 0};
-  EXPECT_THAT(errorOf([&] { writeHits(file, hits, &clicdet()); }, file, 2),
-              HasSubstr("is not a layer of detector 'CLICdet'"));
+  EXPECT_THAT(
+      errorOf([&] { writeHits(file, hits, &clicdet().trackmlLayerMap()); },
+              file, 2),
+      HasSubstr("is not a layer of detector 'CLICdet'"));
 }
 
 }  // namespace

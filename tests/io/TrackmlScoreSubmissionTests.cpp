@@ -3,10 +3,10 @@
 /// Kaggle events read with the TrackML detector.
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/frontend/SubmissionScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
-#include "conftrack/io/TextFile.hpp"
 #include "conftrack/io/TrackmlReader.hpp"
 #include "conftrack/io/TrackmlSubmission.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
@@ -186,7 +186,7 @@ TEST(TrackmlSubmission, KaggleEventsWithTrackmlDetector) {
   for (const auto& [number, nHits] : events) {
     for (const Detector* det : {&shipped, &built}) {
       const auto start = std::chrono::steady_clock::now();
-      Event event = readEvent(dir, number, det);
+      Event event = readEvent(dir, number, &det->trackmlLayerMap());
       const double ms = std::chrono::duration<double, std::milli>(
                             std::chrono::steady_clock::now() - start)
                             .count();
@@ -209,7 +209,8 @@ TEST(TrackmlSubmission, KaggleEventsWithTrackmlDetector) {
       }
     }
     // All hits unassigned: a valid submission.
-    Event event = readEvent(dir, number, &built, {false, false});
+    Event event =
+        readEvent(dir, number, &built.trackmlLayerMap(), {false, false});
     std::vector<std::vector<HitIndex>> none;
     fs::path sub = writeSubmission(tmp.path(), number, event.hits, none);
     std::vector<std::uint64_t> labels = readSubmission(sub, event.hits, number);

@@ -34,6 +34,19 @@ struct Hit {
   double sigmaV = 0.0;
 };
 
+/// The local measurement axes (u, v) at `position` on a barrel cylinder
+/// (`disk` false: u along phi, v = z) or an endcap disk (`disk` true: u
+/// along phi, v radial), in global coordinates. On the z axis phi is taken
+/// as 0 (u = y).
+inline void localMeasurementAxes(const Vector3& position, bool disk,
+                                 Vector3& uAxis, Vector3& vAxis) {
+  double r = position.head<2>().norm();
+  double c = r > 0.0 ? position.x() / r : 1.0;
+  double s = r > 0.0 ? position.y() / r : 0.0;
+  uAxis = Vector3(-s, c, 0.0);
+  vAxis = disk ? Vector3(c, s, 0.0) : Vector3(0.0, 0.0, 1.0);
+}
+
 /// Truth information of one hit (simulation only; never seen by the
 /// reconstruction).
 struct HitTruth {

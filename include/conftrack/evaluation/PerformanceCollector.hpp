@@ -12,12 +12,12 @@
 /// so that the summary is identical for any thread count.
 
 #include "conftrack/core/Event.hpp"
+#include "conftrack/core/Track.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/evaluation/GaussianFit.hpp"
 #include "conftrack/evaluation/Histograms.hpp"
 #include "conftrack/evaluation/TrackResiduals.hpp"
 #include "conftrack/evaluation/TruthMatching.hpp"
-#include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
 
 #include <cstddef>

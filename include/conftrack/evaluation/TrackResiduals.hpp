@@ -6,7 +6,7 @@
 /// reconstructed track used to bin fake and duplicate rates.
 
 #include "conftrack/core/Event.hpp"
-#include "conftrack/reconstruction/Track.hpp"
+#include "conftrack/core/Track.hpp"
 
 #include <array>
 #include <cstddef>

@@ -5,7 +5,7 @@
 /// in (x, y), (u, v) and (z, r), drawn by scripts/conftrack_display.py.
 
 #include "conftrack/core/Hit.hpp"
-#include "conftrack/reconstruction/Track.hpp"
+#include "conftrack/core/Track.hpp"
 
 #include <filesystem>
 #include <ostream>

@@ -35,8 +35,8 @@ struct ReconstructionChoice {
 std::shared_ptr<const ModuleLayout> loadSensorLayout(const Detector& detector,
                                                      bool moduleLevel);
 
-/// The shipped module layout of `detector` (data/layouts/, io/LayoutFile);
-/// InputError "--module-level: ..." if it has none.
+/// The shipped module layout of `detector` (data/layouts/,
+/// geometry/LayoutFile); InputError "--module-level: ..." if it has none.
 std::shared_ptr<const ModuleLayout> loadShippedLayout(const Detector& detector);
 
 /// The Reconstruction configuration for `detector` (reads the chain).

@@ -5,6 +5,7 @@
 /// field, with passive material. Read from TOML (DetectorReader.hpp).
 
 #include "conftrack/core/DetectorId.hpp"
+#include "conftrack/core/TrackmlLayerMap.hpp"
 #include "conftrack/geometry/Surfaces.hpp"
 
 #include <cstdint>
@@ -64,6 +65,9 @@ class Detector {
                                                 std::uint32_t layer) const;
   /// Number of distinct (subdetector, side, layer) triples.
   std::size_t numLayers() const { return m_layers.size(); }
+  /// The layers as the TrackML files see them, indexed as layers(): what the
+  /// io readers and writers take instead of the detector.
+  const TrackmlLayerMap& trackmlLayerMap() const { return m_trackml; }
 
  private:
   std::string m_name;
@@ -74,9 +78,15 @@ class Detector {
   std::vector<Subdetector> m_subdetectors;
   std::vector<SensitiveLayer> m_layers;
   std::vector<PassiveSurface> m_passives;
-  /// Sorted (key, layer index) pairs for findLayer / findTrackmlLayer.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> m_idIndex;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> m_trackmlIndex;
+  /// The layers' TrackML view; also the index of findLayer and
+  /// findTrackmlLayer.
+  TrackmlLayerMap m_trackml;
 };
+
+/// The TrackML layer map of `detector`, or nullptr without one (the io
+/// functions then take ids raw, io/TrackmlIds.hpp).
+inline const TrackmlLayerMap* trackmlLayerMapOf(const Detector* detector) {
+  return detector != nullptr ? &detector->trackmlLayerMap() : nullptr;
+}
 
 }  // namespace conftrack

@@ -7,7 +7,7 @@
 /// back to the same bits (so write/read round trips are exact); integers in
 /// decimal. The text is written out with writeTextFile.
 
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
 
 #include <charconv>
 #include <concepts>

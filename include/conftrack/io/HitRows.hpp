@@ -6,6 +6,7 @@
 /// that hold the columns in memory (the Python module).
 
 #include "conftrack/core/Hit.hpp"
+#include "conftrack/core/TrackmlLayerMap.hpp"
 #include "conftrack/io/TrackmlIds.hpp"
 
 #include <cstdint>
@@ -14,9 +15,6 @@
 #include <unordered_set>
 
 namespace conftrack {
-
-class Detector;
-struct SensitiveLayer;
 
 /// The fields of one hits row, in TrackML units (mm).
 struct HitRow {
@@ -39,22 +37,22 @@ class HitRowErrors {
 };
 
 /// Builds the hits of one table row by row (readHits documents the checks
-/// and what the detector supplies). Rows must come in table order: the
+/// and what the layer map supplies). Rows must come in table order: the
 /// duplicate-id check spans the rows given so far.
 class HitRowBuilder {
  public:
-  /// `detector` may be null (raw ids); it must outlive the builder.
-  explicit HitRowBuilder(const Detector* detector);
+  /// `layers` may be null (raw ids); it must outlive the builder.
+  explicit HitRowBuilder(const TrackmlLayerMap* layers);
 
   /// The hit of `row`; problems go to `errors`.
   Hit build(const HitRow& row, const HitRowErrors& errors);
 
  private:
-  const SensitiveLayer* findLayer(std::uint32_t volume, std::uint32_t layer);
+  const TrackmlLayer* findLayer(std::uint32_t volume, std::uint32_t layer);
 
-  const Detector* m_detector;
+  const TrackmlLayerMap* m_layers;
   /// The last layer found: hits come grouped by module.
-  const SensitiveLayer* m_layer = nullptr;
+  const TrackmlLayer* m_layer = nullptr;
   std::uint32_t m_volume = 0;
   std::uint32_t m_layerId = 0;
   /// Rows so far; while ids run 1, 2, 3, ... they cannot repeat, and the

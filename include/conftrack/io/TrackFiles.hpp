@@ -13,9 +13,9 @@
 /// is strict: every problem is a one-line InputError "file:line: problem".
 
 #include "conftrack/core/Hit.hpp"
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
+#include "conftrack/core/Track.hpp"
 #include "conftrack/io/TrackmlWriter.hpp"
-#include "conftrack/reconstruction/Track.hpp"
 
 #include <array>
 #include <cstdint>

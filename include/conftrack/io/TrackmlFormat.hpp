@@ -31,8 +31,8 @@
 ///     (missing: 1); id of the parent particle, 0 = primary (missing: 0);
 ///     0 = physics event, 1 = overlaid background (missing: 0).
 ///
-/// Detector ids: volume_id and layer_id are the layer's trackmlVolume and
-/// trackmlLayer (Detector::findTrackmlLayer), module_id is
+/// Detector ids: volume_id and layer_id are the layer's TrackML volume and
+/// layer (TrackmlLayerMap::findTrackml), module_id is
 /// DetectorId::module. Without a detector the ids are taken raw:
 /// subdetector = volume_id, side = barrel, layer = layer_id.
 ///

@@ -4,21 +4,21 @@
 /// Mapping between conftrack's DetectorId and TrackML's
 /// (volume_id, layer_id, module_id).
 ///
-/// With a Detector, a layer's TrackML ids are its trackmlVolume and
-/// trackmlLayer and module_id is DetectorId::module (no offset). Without one
+/// With a detector's layer map (core/TrackmlLayerMap.hpp,
+/// Detector::trackmlLayerMap), a layer's TrackML ids are its volume and
+/// layer and module_id is DetectorId::module (no offset). Without one
 /// (nullptr) the ids are carried raw, so that files of detectors conftrack
 /// has no description of (e.g. the Kaggle TrackML events) can be read,
 /// processed and written back unchanged: subdetector = volume_id,
 /// side = barrel, layer = layer_id, module = module_id.
 
 #include "conftrack/core/DetectorId.hpp"
+#include "conftrack/core/TrackmlLayerMap.hpp"
 
 #include <cstdint>
 #include <optional>
 
 namespace conftrack {
-
-class Detector;
 
 /// A TrackML module identifier.
 struct TrackmlId {
@@ -33,16 +33,16 @@ struct TrackmlId {
                                    const TrackmlId&) = default;
 };
 
-/// TrackML ids of a DetectorId. nullopt if `detector` has no such layer,
-/// or, without a detector, if the id is not on the barrel side (raw ids
+/// TrackML ids of a DetectorId. nullopt if `layers` has no such layer,
+/// or, without a layer map, if the id is not on the barrel side (raw ids
 /// cannot express a side).
 std::optional<TrackmlId> toTrackml(const DetectorId& id,
-                                   const Detector* detector);
+                                   const TrackmlLayerMap* layers);
 
-/// DetectorId of TrackML ids. nullopt if `detector` has no layer
+/// DetectorId of TrackML ids. nullopt if `layers` has no layer
 /// (volume, layer), if the module number exceeds the layer's segmentation,
-/// or, without a detector, if volume or layer do not fit 16 bits.
+/// or, without a layer map, if volume or layer do not fit 16 bits.
 std::optional<DetectorId> fromTrackml(const TrackmlId& id,
-                                      const Detector* detector);
+                                      const TrackmlLayerMap* layers);
 
 }  // namespace conftrack

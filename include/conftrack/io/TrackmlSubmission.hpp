@@ -9,8 +9,8 @@
 
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/core/Types.hpp"
-#include "conftrack/io/TextFile.hpp"
 
 #include <cstdint>
 #include <filesystem>

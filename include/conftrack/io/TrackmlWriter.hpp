@@ -12,14 +12,13 @@
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Particle.hpp"
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
+#include "conftrack/core/TrackmlLayerMap.hpp"
 
 #include <filesystem>
 #include <vector>
 
 namespace conftrack {
-
-class Detector;
 
 /// How writeEvent writes.
 struct WriteOptions {
@@ -29,14 +28,16 @@ struct WriteOptions {
   int gzipLevel = kDefaultGzipLevel;
 };
 
-/// Writes a hits file. With a detector, each hit's detId must name one of its
-/// layers, whose TrackML ids are written; without one (nullptr) the ids are
-/// written raw (TrackmlIds.hpp), which needs side = barrel. The sigma_u and
+/// Writes a hits file. With a detector's layer map (`layers`,
+/// Detector::trackmlLayerMap), each hit's detId must name one of its layers,
+/// whose TrackML ids are written; without one (nullptr) the ids are written
+/// raw (TrackmlIds.hpp), which needs side = barrel. The sigma_u and
 /// sigma_v columns are left out if all resolutions are 0 (unknown), so that
 /// such files stay plain TrackML files. Throws InputError
 /// for an id that cannot be written and for non-finite values.
 void writeHits(const std::filesystem::path& file, const std::vector<Hit>& hits,
-               const Detector* detector, int gzipLevel = kDefaultGzipLevel);
+               const TrackmlLayerMap* layers,
+               int gzipLevel = kDefaultGzipLevel);
 
 /// Writes a truth file, one row per hit in hit order; `truth` must be
 /// parallel to `hits` (throws std::invalid_argument otherwise).
@@ -56,6 +57,7 @@ void writeParticles(const std::filesystem::path& file,
 /// beside the new ones (the other compression variant; a truth file when the
 /// event has no truth), so that readEvent returns what was written.
 void writeEvent(const std::filesystem::path& dir, const Event& event,
-                const Detector* detector, const WriteOptions& options = {});
+                const TrackmlLayerMap* layers,
+                const WriteOptions& options = {});
 
 }  // namespace conftrack

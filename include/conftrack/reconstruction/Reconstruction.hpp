@@ -6,9 +6,9 @@
 
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/Hit.hpp"
+#include "conftrack/core/Track.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/ModuleLayout.hpp"
-#include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"

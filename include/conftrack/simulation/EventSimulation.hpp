@@ -44,8 +44,8 @@ class EventSimulation {
     std::uint64_t seed = 1;
     Simulator::Config simulator;
     /// Module-level simulation: the flat sensors of the detector (e.g.
-    /// io/LayoutFile.hpp for CLICdet and CLD), crossed sensor by sensor so
-    /// that overlapping sensors give two hits (Simulator.hpp). Null (the
+    /// geometry/LayoutFile.hpp for CLICdet and CLD), crossed sensor by sensor
+    /// so that overlapping sensors give two hits (Simulator.hpp). Null (the
     /// default): the ideal cylinders and disks of the detector file.
     std::shared_ptr<const ModuleLayout> modules;
     /// Readout window of the hit time (detectors.md 1.8: 10 ns from

@@ -5,7 +5,7 @@
 /// (Kaggle particles.csv) through conftrack's fast simulation with the
 /// TrackML detector, plus optional uniform noise, with the TrackML score
 /// weights in the truth. File I/O is the caller's (io: readParticles,
-/// writeEvent), since io depends on this module.
+/// writeEvent); simulation does not depend on io.
 
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"

@@ -5,8 +5,8 @@
 /// of steps on the hits of one event. Truth is never used.
 
 #include "conftrack/core/Hit.hpp"
+#include "conftrack/core/Track.hpp"
 #include "conftrack/geometry/Detector.hpp"
-#include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
 

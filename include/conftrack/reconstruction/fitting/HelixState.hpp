@@ -12,9 +12,9 @@
 /// (sign(Omega) = sign(q) for Bz > 0, the LCIO convention). Momenta are
 /// computed for |q| = 1.
 
+#include "conftrack/core/Track.hpp"
 #include "conftrack/core/Types.hpp"
 #include "conftrack/geometry/Helix.hpp"
-#include "conftrack/reconstruction/Track.hpp"
 
 #include <optional>
 

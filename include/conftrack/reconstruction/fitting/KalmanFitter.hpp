@@ -8,10 +8,10 @@
 /// approach to the z axis.
 
 #include "conftrack/core/Hit.hpp"
+#include "conftrack/core/Track.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/SurfaceNavigator.hpp"
-#include "conftrack/reconstruction/Track.hpp"
 #include "conftrack/reconstruction/fitting/FitInput.hpp"
 #include "conftrack/reconstruction/fitting/HelixState.hpp"
 

@@ -7,7 +7,7 @@
 /// number of hits after the fit.
 
 #include "conftrack/core/Hit.hpp"
-#include "conftrack/reconstruction/Track.hpp"
+#include "conftrack/core/Track.hpp"
 
 #include <cstddef>
 #include <cstdint>

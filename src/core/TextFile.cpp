@@ -1,4 +1,4 @@
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
 
 #include "conftrack/core/Error.hpp"
 

@@ -4,7 +4,7 @@
 /// refused with a one-line InputError instead of exhausting the memory.
 
 #include "conftrack/core/Error.hpp"
-#include "conftrack/io/TextFile.hpp"
+#include "conftrack/core/TextFile.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

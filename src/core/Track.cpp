@@ -1,4 +1,4 @@
-#include "conftrack/reconstruction/Track.hpp"
+#include "conftrack/core/Track.hpp"
 
 #include <algorithm>
 

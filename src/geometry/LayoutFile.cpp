@@ -1,8 +1,8 @@
-#include "conftrack/io/LayoutFile.hpp"
+#include "conftrack/geometry/LayoutFile.hpp"
 
 #include "conftrack/core/DataFiles.hpp"
+#include "conftrack/core/TextFile.hpp"
 #include "conftrack/geometry/LayoutModules.hpp"
-#include "conftrack/io/TextFile.hpp"
 
 #include <cctype>
 #include <string>

@@ -19,7 +19,7 @@ namespace conftrack {
 /// Whether it exists is not checked.
 std::filesystem::path shippedLayoutFile(const Detector& detector);
 
-/// Reads the layout JSON `file` (plain or gzip, io/TextFile.hpp) and builds
+/// Reads the layout JSON `file` (plain or gzip, core/TextFile.hpp) and builds
 /// the sensors of `detector` (buildLayoutModules). Throws InputError
 /// "file: problem" if it cannot be read or is invalid.
 ModuleLayout readLayoutModules(const std::filesystem::path& file,
