@@ -57,7 +57,7 @@ struct SampleOptions {
 /// --module-level.
 void addSampleOptions(CLI::App& cmd, SampleOptions& options);
 /// With --module-level, the sensors of `detector` from its shipped layout
-/// file (io/LayoutFile.hpp), for EventSimulation::Config::modules; else
+/// file (geometry/LayoutFile.hpp), for EventSimulation::Config::modules; else
 /// null. InputError if the detector has no layout file.
 std::shared_ptr<const ModuleLayout> loadModuleLayout(
     const SampleOptions& options, const Detector& detector);
