@@ -20,6 +20,19 @@ namespace {
 /// zlib counts bytes in 32-bit uInt; larger buffers are fed in slices.
 constexpr std::size_t kMaxZlibChunk = std::size_t{1} << 30;
 
+/// Hands zlib the next chunk of `in` once it has used up the last one
+/// (zlib counts input in 32-bit uInt); `consumed` is what it got so far.
+void feedZlib(z_stream& zs, std::string_view in, std::size_t& consumed) {
+  if (zs.avail_in == 0 && consumed < in.size()) {
+    const std::size_t n = std::min(in.size() - consumed, kMaxZlibChunk);
+    // zlib's interface is not const-correct; it does not write the input.
+    zs.next_in =
+        reinterpret_cast<Bytef*>(const_cast<char*>(in.data())) + consumed;
+    zs.avail_in = static_cast<uInt>(n);
+    consumed += n;
+  }
+}
+
 bool isGzipMagic(std::string_view data, std::size_t pos) {
   return data.size() >= pos + 2 &&
          static_cast<unsigned char>(data[pos]) == 0x1f &&
@@ -116,13 +129,7 @@ std::string gunzip(std::string_view in, const std::string& name,
   std::size_t consumed = 0;  // bytes of `in` handed to zlib so far
   zs.avail_in = 0;
   for (;;) {
-    if (zs.avail_in == 0 && consumed < in.size()) {
-      std::size_t n = std::min(in.size() - consumed, kMaxZlibChunk);
-      zs.next_in =
-          reinterpret_cast<Bytef*>(const_cast<char*>(in.data())) + consumed;
-      zs.avail_in = static_cast<uInt>(n);
-      consumed += n;
-    }
+    feedZlib(zs, in, consumed);
     if (produced == out.size()) {
       // One byte beyond the limit tells that the data exceed it.
       if (produced > maxBytes) {
@@ -187,13 +194,7 @@ std::string gzip(std::string_view in, int level) {
   std::size_t produced = 0;
   std::size_t consumed = 0;
   for (;;) {
-    if (zs.avail_in == 0 && consumed < in.size()) {
-      std::size_t n = std::min(in.size() - consumed, kMaxZlibChunk);
-      zs.next_in =
-          reinterpret_cast<Bytef*>(const_cast<char*>(in.data())) + consumed;
-      zs.avail_in = static_cast<uInt>(n);
-      consumed += n;
-    }
+    feedZlib(zs, in, consumed);
     if (produced == out.size()) {
       out.resize(out.size() * 2);
     }

@@ -159,27 +159,43 @@ job_of() { grep -oP "^$1: job \K[0-9]+" "$2"; }
 
 run_args=(run -n 16 --seed 4 --overlay-bx 3)
 
+# Submits the 4-shard study into folder $1 (more conftrack slurm options
+# after it), saving the output in $work/submit-<n>.txt; sets shard_job and
+# merge_job.
+submissions=0
+submit() {
+  local folder=$1
+  shift
+  submissions=$((submissions + 1))
+  submitted="$work/submit-$submissions.txt"
+  "$conftrack" slurm --shards 4 --no-plots -o "$folder" "$@" -- "${run_args[@]}" |
+    tee "$submitted"
+  shard_job=$(job_of shards "$submitted" || true)
+  merge_job=$(job_of merge "$submitted")
+}
+
+# Waits for merge job $1 and compares the report in folder $2 with the
+# single-process one.
+expect_merged() {
+  wait_gone "$1"
+  local state
+  state=$(job_state "$1")
+  [ "$state" = COMPLETED ] || fail "merge job $1 ended $state"
+  python3 "$here/compare_reports.py" "$work/single" "$2/merged"
+}
+
 # --- the reference: one process
 "$conftrack" -q "${run_args[@]}" --no-plots -j 2 -o "$work/single" >/dev/null
 
 # --- 1. four shards and the merge
-"$conftrack" slurm --shards 4 --no-plots -o "$work/study" -- "${run_args[@]}" |
-  tee "$work/submit1.txt"
-shard_job=$(job_of shards "$work/submit1.txt")
-merge_job=$(job_of merge "$work/submit1.txt")
-wait_gone "$merge_job"
-state=$(job_state "$merge_job")
-[ "$state" = COMPLETED ] || fail "merge job $merge_job ended $state"
-python3 "$here/compare_reports.py" "$work/single" "$work/study/merged"
+submit "$work/study"
+expect_merged "$merge_job" "$work/study"
 echo "slurm test: 4-shard run merged by job $merge_job equals the single-process run"
 
 # --- 2. a failing shard: shard 2 cannot write its folder (a file is there)
 mkdir -p "$work/study2"
 echo "not a folder" >"$work/study2/shard-2"
-"$conftrack" slurm --shards 4 --no-plots -o "$work/study2" -- "${run_args[@]}" |
-  tee "$work/submit2.txt"
-shard_job=$(job_of shards "$work/submit2.txt")
-merge_job=$(job_of merge "$work/submit2.txt")
+submit "$work/study2"
 wait_gone "$shard_job"
 # The dependency is evaluated by the scheduler loop: give it a moment.
 for _ in $(seq 30); do
@@ -198,13 +214,8 @@ echo "slurm test: shard 2 failed, merge job $merge_job never started (Dependency
 # The user's fix and the README's resume command.
 scancel "$merge_job"
 rm "$work/study2/shard-2"
-"$conftrack" slurm --shards 4 --no-plots -o "$work/study2" --resume -- "${run_args[@]}" |
-  tee "$work/submit3.txt"
-grep -q "array 2 of 4" "$work/submit3.txt" || fail "resume did not submit shard 2 alone"
-merge_job=$(job_of merge "$work/submit3.txt")
-wait_gone "$merge_job"
-state=$(job_state "$merge_job")
-[ "$state" = COMPLETED ] || fail "resumed merge job $merge_job ended $state"
-python3 "$here/compare_reports.py" "$work/single" "$work/study2/merged"
+submit "$work/study2" --resume
+grep -q "array 2 of 4" "$submitted" || fail "resume did not submit shard 2 alone"
+expect_merged "$merge_job" "$work/study2"
 echo "slurm test: resumed study equals the single-process run"
 echo "slurm test: PASSED"
