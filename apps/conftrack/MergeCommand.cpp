@@ -31,9 +31,6 @@ struct MergeOptions {
 std::set<fs::path> reportFolders(const fs::path& dir) {
   std::set<fs::path> folders;
   std::error_code ec;
-  if (fs::is_regular_file(dir / kPerformanceDataFile, ec)) {
-    folders.insert(".");
-  }
   for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end;
        it.increment(ec)) {
     if (it->is_regular_file(ec) &&
@@ -70,7 +67,6 @@ void mergeReport(const MergeOptions& opt, const fs::path& folder) {
   PerformanceSummary summary = summarizePerformance(merged.config, merged.data);
   summary.peakRssMb = merged.peakRssMb;
   const fs::path out = under(opt.output, folder);
-  prepareOutputFolder(out, "-o");
   // The run's first event is the first shard's: its display is the run's.
   const fs::path display =
       under(opt.inputs.front(), folder) / "event_display.png";
@@ -105,6 +101,8 @@ void runMerge(const MergeOptions& opt) {
                      " in any input folder (reports of run or evaluate "
                      "with --shard)");
   }
+  // Before any work, as every command does.
+  prepareOutputFolder(opt.output, "-o");
   for (const fs::path& folder : folders) {
     mergeReport(opt, folder);
   }

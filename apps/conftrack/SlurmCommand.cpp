@@ -118,9 +118,16 @@ void writeScript(const fs::path& file, const std::string& text) {
   if (!out) {
     throw InputError(file.string(), "cannot write the job script");
   }
-  fs::permissions(file, fs::perms::owner_all | fs::perms::group_read |
-                            fs::perms::group_exec | fs::perms::others_read |
-                            fs::perms::others_exec);
+  std::error_code ec;
+  fs::permissions(file,
+                  fs::perms::owner_all | fs::perms::group_read |
+                      fs::perms::group_exec | fs::perms::others_read |
+                      fs::perms::others_exec,
+                  ec);
+  if (ec) {
+    throw InputError(file.string(),
+                     "cannot make the job script executable: " + ec.message());
+  }
 }
 
 /// Runs `sbatch --parsable ...` and returns the job id it prints.

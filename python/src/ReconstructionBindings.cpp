@@ -7,9 +7,11 @@
 #include "conftrack/evaluation/TrackmlScore.hpp"
 #include "conftrack/frontend/ReconstructionSetup.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <pybind11/stl.h>
 #include <string>
 #include <vector>
@@ -75,9 +77,19 @@ class Reconstructor {
                          "]: " + e.what());
       }
     }
+    // Largest events first (cost grows faster than the hit count), so that
+    // the last events to start are short ones and the threads finish
+    // together; each event's result does not depend on the order.
+    std::vector<std::size_t> order(results.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) {
+                       return results[a].hits.size() > results[b].hits.size();
+                     });
     py::gil_scoped_release release;
-    forEachIndex(results.size(), threads, [&](std::size_t i) {
-      results[i].result = m_reco->run(results[i].hits);
+    forEachIndex(results.size(), threads, [&](std::size_t k) {
+      ResultHandle& r = results[order[k]];
+      r.result = m_reco->run(r.hits);
     });
     return results;
   }

@@ -299,21 +299,25 @@ PerformanceConfig readConfig(const JsonEntry& e) {
   return c;
 }
 
-/// The counts of `key` (an array of as many counts as the histogram has
-/// bins plus under- and overflow), after checking its edges.
-std::vector<std::uint64_t> histogramCounts(const JsonEntry& e,
-                                           std::string_view countsKey,
-                                           const std::vector<double>& edges) {
+/// Refuses a histogram whose "edges" are not `edges` (this version's).
+void checkEdges(const JsonEntry& e, const std::vector<double>& edges) {
   if (e.numbers("edges") != edges) {
     e.fail("edges", "bin edges differ from this version's (" +
                         std::to_string(edges.size()) + " edges from " +
                         std::to_string(edges.front()) + " to " +
                         std::to_string(edges.back()) + ")");
   }
-  std::vector<std::uint64_t> counts = e.counts(countsKey, edges.size() + 1);
+}
+
+/// The counts of `key`: one per bin of a histogram with `edges` edges, plus
+/// under- and overflow.
+std::vector<std::uint64_t> histogramCounts(const JsonEntry& e,
+                                           std::string_view key,
+                                           std::size_t edges) {
+  std::vector<std::uint64_t> counts = e.counts(key, edges + 1);
   for (std::size_t i = 0; i < counts.size(); ++i) {
     if (counts[i] > kMaxCount) {
-      e.fail(std::string(countsKey) + "[" + std::to_string(i) + "]",
+      e.fail(std::string(key) + "[" + std::to_string(i) + "]",
              "count too large");
     }
   }
@@ -342,10 +346,11 @@ void readData(const JsonEntry& e, PerformanceData& d) {
     RatioHistogram& h = d.*f.member;
     const JsonEntry one = histograms.object(f.key);
     const std::vector<double> edges = edgesOf(h.denominator().axis());
+    checkEdges(one, edges);
     const std::vector<std::uint64_t> passed =
-        histogramCounts(one, "passed", edges);
+        histogramCounts(one, "passed", edges.size());
     const std::vector<std::uint64_t> total =
-        histogramCounts(one, "total", edges);
+        histogramCounts(one, "total", edges.size());
     for (std::size_t i = 0; i < total.size(); ++i) {
       if (passed[i] > total[i]) {
         one.fail("passed[" + std::to_string(i) + "]",
@@ -355,8 +360,11 @@ void readData(const JsonEntry& e, PerformanceData& d) {
     }
   }
   auto& th = d.reconstructionMsPerEvent;
-  const std::vector<std::uint64_t> counts = histogramCounts(
-      e.object("reconstruction_ms_per_event"), "counts", edgesOf(th.axis()));
+  const JsonEntry timeHistogram = e.object("reconstruction_ms_per_event");
+  const std::vector<double> timeEdges = edgesOf(th.axis());
+  checkEdges(timeHistogram, timeEdges);
+  const std::vector<std::uint64_t> counts =
+      histogramCounts(timeHistogram, "counts", timeEdges.size());
   for (std::size_t i = 0; i < counts.size(); ++i) {
     th.at(static_cast<int>(i) - 1) = counts[i];
   }
