@@ -79,6 +79,30 @@ Simulator::Simulator(const Detector& detector, const Config& config,
   if (!(m_config.minCosIncidence > 0.0 && m_config.minCosIncidence <= 1.0)) {
     throw std::invalid_argument("Simulator: minCosIncidence must be in (0, 1]");
   }
+  const std::vector<double>& edges = m_config.turnBandEdges;
+  if (!std::all_of(edges.begin(), edges.end(),
+                   [](double r) { return r > 0.0 && std::isfinite(r); }) ||
+      !std::is_sorted(edges.begin(), edges.end()) ||
+      std::adjacent_find(edges.begin(), edges.end()) != edges.end()) {
+    throw std::invalid_argument(
+        "Simulator: turnBandEdges must be positive, finite and increasing");
+  }
+  if (!(m_config.turnBandMinProductionRadius >= 0.0)) {
+    throw std::invalid_argument(
+        "Simulator: turnBandMinProductionRadius must be >= 0");
+  }
+}
+
+int Simulator::radialBand(double r) const {
+  const std::vector<double>& edges = m_config.turnBandEdges;
+  return static_cast<int>(std::upper_bound(edges.begin(), edges.end(), r) -
+                          edges.begin());
+}
+
+bool Simulator::isBlind(int blindBand, const Vector3& position,
+                        const Vector3& momentum) const {
+  return blindBand >= 0 && position.head<2>().dot(momentum.head<2>()) >= 0.0 &&
+         radialBand(position.head<2>().norm()) == blindBand;
 }
 
 double Simulator::massOf(std::int32_t pdg) {
@@ -132,6 +156,14 @@ std::uint32_t Simulator::simulateParticle(
   if (!(p >= m_config.minMomentum) || momentum.head<2>().squaredNorm() == 0.0) {
     return 0;
   }
+  // Started towards the beam line: after its turning point the sensors of
+  // the band it turned in give no hit (Config::turnBandEdges).
+  int blindBand = -1;
+  if (!m_config.turnBandEdges.empty() &&
+      position.head<2>().norm() >= m_config.turnBandMinProductionRadius &&
+      position.head<2>().dot(momentum.head<2>()) < 0.0) {
+    blindBand = radialBand(Helix(position, momentum, charge, m_bz).minRadius());
+  }
   double energy = std::sqrt(p * p + mass * mass);
   double time = particle.time;
   double turns = 0.0;
@@ -174,12 +206,13 @@ std::uint32_t Simulator::simulateParticle(
     if (modular) {
       xOverX0 =
           crossModules(helix, s, static_cast<std::uint32_t>(surface.layer),
-                       surface, direction, beta, time, particle.id, rng, normal,
-                       nextHitId, scratch, out, nHits);
+                       surface, direction, beta, time, particle.id, blindBand,
+                       rng, normal, nextHitId, scratch, out, nHits);
     } else if (surface.thicknessX0 > 0.0) {
       xOverX0 = surface.xOverX0(position, direction, m_config.minCosIncidence);
     }
-    if (surface.isSensitive() && !modular) {
+    if (surface.isSensitive() && !modular &&
+        !isBlind(blindBand, position, momentumIn)) {
       const SensitiveLayer& layer =
           m_layers[static_cast<std::size_t>(surface.layer)];
       Vector3 measured = position;
@@ -249,7 +282,7 @@ std::uint32_t Simulator::simulateParticle(
 double Simulator::crossModules(
     const Helix& helix, double s, std::uint32_t layerIndex,
     const NavigationSurface& surface, const Vector3& direction, double beta,
-    double time, std::uint64_t particleId, RandomEngine& rng,
+    double time, std::uint64_t particleId, int blindBand, RandomEngine& rng,
     std::normal_distribution<double>& normal, std::uint64_t& nextHitId,
     Scratch& scratch, Event& out, std::uint32_t& nHits) const {
   const ModuleLayout& layout = *m_modules;
@@ -282,6 +315,9 @@ double Simulator::crossModules(
     xOverX0 += module.thicknessX0 / cosIncidence;
     if (cosIncidence < m_config.minHitCosIncidence) {
       continue;  // too long a path in the sensor: no hit (real TrackML)
+    }
+    if (isBlind(blindBand, truePosition, momentum)) {
+      continue;  // after an inward start's turn (Config::turnBandEdges)
     }
     double u = crossing.u;
     double v = crossing.v;

@@ -1,7 +1,7 @@
 // The simulation with flat sensors (Simulator + ModuleLayout): overlaps
 // give two hits and gaps none, hits are measured in the sensor frame; the
-// half-turn looper stop, hadronic interactions and the grazing cut of the
-// TrackML-like simulation.
+// half-turn looper stop, the blind turning band, hadronic interactions and
+// the grazing cut of the TrackML-like simulation.
 
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
@@ -189,6 +189,42 @@ TEST(ModuleSimulation, TrackmlLoopersStopAfterHalfATurn) {
   follow.simulate(particles, rng, followed);
   EXPECT_GT(followed.particles[0].nHits, 20u);  // 10 turns of 4 crossings
   EXPECT_GT(followed.particles[1].nHits, 20u);
+}
+
+TEST(ModuleSimulation, InwardStartIsBlindInItsTurningBandAfterTheTurn) {
+  const Detector detector = barrels({100.0, 200.0, 300.0, 400.0}, 2000.0, 0.0);
+  Simulator::Config config = test::idealSimulatorConfig();
+  config.maxTurns = 0.5;
+  // The inward particle of TrackmlLoopersStopAfterHalfATurn: in through
+  // 200, smallest radius 145.6 mm, out through 200 and 300. The outward
+  // one from the same place crosses 300 and 400 out and 400 back in.
+  const std::vector<Particle> particles = {
+      particle(1, 0.085, kPi, 0.01, Vector3(250.0, 0.0, 0.0)),
+      particle(2, 0.085, 0.0, 0.01, Vector3(250.0, 0.0, 0.0))};
+  const auto hitsWith = [&](std::vector<double> edges, double minRadius) {
+    config.turnBandEdges = std::move(edges);
+    config.turnBandMinProductionRadius = minRadius;
+    Event event;
+    RandomEngine rng(3);
+    Simulator(detector, config).simulate(particles, rng, event);
+    return std::vector<std::uint32_t>{event.particles[0].nHits,
+                                      event.particles[1].nHits};
+  };
+  using Counts = std::vector<std::uint32_t>;
+  EXPECT_EQ(hitsWith({}, 0.0), (Counts{3, 3}));
+  // Turned below 250 mm: the way out through 200 is blind, not 300.
+  EXPECT_EQ(hitsWith({250.0}, 0.0), (Counts{2, 3}));
+  // Turned between 100 and 350 mm: 200 and 300 on the way out are blind;
+  // the way in (200) is not.
+  EXPECT_EQ(hitsWith({100.0, 350.0}, 0.0), (Counts{1, 3}));
+  // Turned in another band than the layers it crosses afterwards.
+  EXPECT_EQ(hitsWith({140.0, 150.0}, 0.0), (Counts{3, 3}));
+  // Produced inside the minimum production radius: not affected.
+  EXPECT_EQ(hitsWith({250.0}, 260.0), (Counts{3, 3}));
+  config.turnBandEdges = {300.0, 200.0};
+  EXPECT_THROW(Simulator(detector, config), std::invalid_argument);
+  config.turnBandEdges = {-1.0};
+  EXPECT_THROW(Simulator(detector, config), std::invalid_argument);
 }
 
 TEST(ModuleSimulation, HadronicInteractionsEndHadronsOnly) {

@@ -100,6 +100,19 @@ class Simulator {
     /// further capped at the chord of a tangent track through the shell,
     /// NavigationSurface::grazingCos).
     double minCosIncidence = 0.01;
+    /// Radii [mm], increasing, that divide the tracker into radial bands
+    /// (the navigation volumes of the simulation being reproduced). A
+    /// particle produced at or beyond turnBandMinProductionRadius while
+    /// moving towards the beam line (x px + y py < 0) leaves no hit, once
+    /// past its smallest radius, on the sensors of the band that holds
+    /// that radius; its material is still crossed. The real TrackML files
+    /// show this (docs/validation.md item 5): such particles have 2.5-3
+    /// hits fewer than those produced at the same place moving outward,
+    /// at every momentum and whatever their turning radius. Empty: off.
+    std::vector<double> turnBandEdges;
+    /// See turnBandEdges [mm]: particles produced inside it (the beam-pipe
+    /// volume of TrackML) are not affected.
+    double turnBandMinProductionRadius = 0.0;
   };
 
   /// The smallest transverse step between two crossings [mm]: a surface
@@ -156,6 +169,13 @@ class Simulator {
     std::vector<ModuleCrossing> crossings;
   };
 
+  /// The band of transverse radius `r` (turnBandEdges): the number of
+  /// edges at or below it.
+  int radialBand(double r) const;
+  /// Whether a particle at `position` with `momentum` gets no hit there:
+  /// it moves outward in `blindBand` (-1: never; turnBandEdges).
+  bool isBlind(int blindBand, const Vector3& position,
+               const Vector3& momentum) const;
   /// Propagates one particle, appending its hits; returns their number.
   std::uint32_t simulateParticle(const Particle& particle, RandomEngine& rng,
                                  std::normal_distribution<double>& normal,
@@ -163,11 +183,13 @@ class Simulator {
                                  Event& out) const;
   /// Records the hits of the sensors of `layer` crossed near arc length
   /// `s` of `helix` (time and particle as at the layer crossing); returns
-  /// the material crossed [X0] along `direction`.
+  /// the material crossed [X0] along `direction`. Sensors in `blindBand`
+  /// (turnBandEdges; -1: none) give no hit to a particle moving outward.
   double crossModules(const Helix& helix, double s, std::uint32_t layer,
                       const NavigationSurface& surface,
                       const Vector3& direction, double beta, double time,
-                      std::uint64_t particleId, RandomEngine& rng,
+                      std::uint64_t particleId, int blindBand,
+                      RandomEngine& rng,
                       std::normal_distribution<double>& normal,
                       std::uint64_t& nextHitId, Scratch& scratch, Event& out,
                       std::uint32_t& nHits) const;

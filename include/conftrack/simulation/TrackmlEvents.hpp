@@ -72,6 +72,17 @@ constexpr std::uint64_t trackmlGeneration(std::uint64_t particleId) {
   return (particleId >> 24) & 0xfff;
 }
 
+/// The radial edges between the pixel, short-strip and long-strip parts
+/// of the TrackML tracker [mm] (Simulator::Config::turnBandEdges): in the
+/// gaps between their sensors (pixels end at 180 mm, short strips span
+/// 255-705 mm, long strips start at 750 mm).
+inline constexpr double kTrackmlPixelBandEdge = 200.0 * units::mm;
+inline constexpr double kTrackmlStripBandEdge = 730.0 * units::mm;
+/// Particles produced inside this radius (the beam-pipe volume, around the
+/// 19 mm beam pipe, inside the first pixel layer at 32 mm) are not
+/// affected by turnBandEdges [mm].
+inline constexpr double kTrackmlBeamPipeVolumeRadius = 25.0 * units::mm;
+
 /// Production positions closer than this to the beam line can be an
 /// interaction point [mm]. The Kaggle interaction points have a transverse
 /// spread of 15 um; decay vertices beyond 1 mm are far more common than
