@@ -91,6 +91,9 @@ Simulator::Simulator(const Detector& detector, const Config& config,
     throw std::invalid_argument(
         "Simulator: turnBandMinProductionRadius must be >= 0");
   }
+  if (m_config.diskPhiNeighbourhood && m_modules) {
+    m_neighbourhood = std::make_shared<const DiskPhiNeighbourhood>(*m_modules);
+  }
 }
 
 int Simulator::radialBand(double r) const {
@@ -304,7 +307,13 @@ double Simulator::crossModules(
                             m_config.minCosIncidence) *
                 (layout.supportX0(layerIndex) / surface.thicknessX0)
           : 0.0;
+  const Vector3 layerCrossing = helix.position(s);
+  const double layerPhi = std::atan2(layerCrossing.y(), layerCrossing.x());
   for (const ModuleCrossing& crossing : scratch.crossings) {
+    if (m_neighbourhood &&
+        !m_neighbourhood->contains(crossing.module, layerPhi)) {
+      continue;  // not looked up at this crossing: never reached
+    }
     const PlanarModule& module = layout.modules()[crossing.module];
     Vector3 truePosition;
     Vector3 momentum;

@@ -187,6 +187,10 @@ Simulator::Config trackmlSimulatorConfig() {
   // mm); particles produced in the beam-pipe volume are not affected.
   config.turnBandEdges = {kTrackmlPixelBandEdge, kTrackmlStripBandEdge};
   config.turnBandMinProductionRadius = kTrackmlBeamPipeVolumeRadius;
+  // The innermost pixel-disk ring overlaps three to four sensors deep; the
+  // real files have the hits of at most the three that a lookup of one
+  // azimuthal bin and its neighbours returns (docs/validation.md).
+  config.diskPhiNeighbourhood = true;
   return config;
 }
 

@@ -1,9 +1,11 @@
 // Flat sensors of a layer (ModuleLayout), their grid lookup and the search
 // for the sensors a helix crosses (findModuleCrossings), against brute
-// force on the real TrackML module table.
+// force on the real TrackML module table; the azimuthal neighbourhood of a
+// disk lookup (DiskPhiNeighbourhood).
 
 #include "conftrack/core/Random.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/geometry/DiskPhiNeighbourhood.hpp"
 #include "conftrack/geometry/Helix.hpp"
 #include "conftrack/geometry/ModuleCrossings.hpp"
 #include "conftrack/geometry/ModuleLayout.hpp"
@@ -129,6 +131,72 @@ std::set<std::uint32_t> bruteForceCrossings(const Helix& helix, double sLayer,
     }
   }
   return out;
+}
+
+TEST(DiskPhiNeighbourhood, BinsTrackmlDisksByTheirSmallestRing) {
+  const TrackmlGeometry& g = trackml();
+  const DiskPhiNeighbourhood neighbourhood(g.layout);
+  for (std::uint32_t l = 0; l < g.detector.layers().size(); ++l) {
+    const SensitiveLayer& layer = g.detector.layers()[l];
+    if (!g.layout.layerIsDisk(l)) {
+      EXPECT_EQ(neighbourhood.bins(l), 0u) << layer.name;
+      continue;
+    }
+    // Rings of 40 + 68 (pixels), 54 + 56 + 60 (short strips), 48 + 50.
+    const double r = g.layout.modules()[g.layout.layerRange(l).first]
+                         .center.head<2>()
+                         .norm();
+    const std::uint32_t expected = r < 200.0 ? 40u : r < 730.0 ? 54u : 48u;
+    EXPECT_EQ(neighbourhood.bins(l), expected) << layer.name;
+  }
+}
+
+TEST(DiskPhiNeighbourhood, KeepsThreeOfTheInnerPixelRingsOverlaps) {
+  const TrackmlGeometry& g = trackml();
+  const DiskPhiNeighbourhood neighbourhood(g.layout);
+  std::uint32_t disk = 0;
+  while (!g.layout.layerIsDisk(disk)) {
+    ++disk;
+  }
+  const auto [begin, end] = g.layout.layerRange(disk);
+  const double z = g.layout.modules()[begin].center.z();
+  // Points at r = 33 mm all around the disk: which sensors hold them, and
+  // which of those the lookup returns.
+  std::size_t mostHolding = 0;
+  std::size_t mostReturned = 0;
+  std::size_t fewestReturned = 100;
+  for (int k = 0; k < 3600; ++k) {
+    const double phi = -kPi + 2.0 * kPi * (k + 0.5) / 3600.0;
+    std::size_t holding = 0;
+    std::size_t returned = 0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const PlanarModule& m = g.layout.modules()[i];
+      const Vector3 point(33.0 * std::cos(phi), 33.0 * std::sin(phi),
+                          m.center.z());
+      const Vector3 local = m.toLocal(point);
+      if (!m.contains(local.x(), local.y())) {
+        continue;
+      }
+      ++holding;
+      returned += neighbourhood.contains(i, phi) ? 1 : 0;
+    }
+    mostHolding = std::max(mostHolding, holding);
+    mostReturned = std::max(mostReturned, returned);
+    fewestReturned = std::min(fewestReturned, returned);
+  }
+  EXPECT_GE(mostHolding, 4u) << "disk at z = " << z;
+  EXPECT_EQ(mostReturned, 3u);
+  EXPECT_GE(fewestReturned, 2u);
+  // A sensor is in its own bin's neighbourhood, in the next bin's, and not
+  // two bins away.
+  const PlanarModule& m = g.layout.modules()[begin];
+  const double centre = std::atan2(m.center.y(), m.center.x());
+  const double step = 2.0 * kPi / neighbourhood.bins(disk);
+  EXPECT_TRUE(neighbourhood.contains(begin, centre));
+  EXPECT_TRUE(neighbourhood.contains(begin, centre + step));
+  EXPECT_TRUE(neighbourhood.contains(begin, centre - step));
+  EXPECT_FALSE(neighbourhood.contains(begin, centre + 2.0 * step));
+  EXPECT_FALSE(neighbourhood.contains(begin, centre - 2.0 * step));
 }
 
 TEST(ModuleCrossings, AgreeWithBruteForceOnTrackml) {

@@ -10,6 +10,7 @@
 #include "conftrack/core/Random.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/geometry/DiskPhiNeighbourhood.hpp"
 #include "conftrack/geometry/MaterialInteractions.hpp"
 #include "conftrack/geometry/ModuleCrossings.hpp"
 #include "conftrack/geometry/ModuleLayout.hpp"
@@ -113,6 +114,12 @@ class Simulator {
     /// See turnBandEdges [mm]: particles produced inside it (the beam-pipe
     /// volume of TrackML) are not affected.
     double turnBandMinProductionRadius = 0.0;
+    /// On disk layers with sensors, only the sensors in the azimuthal
+    /// neighbourhood of the layer crossing (DiskPhiNeighbourhood: its bin
+    /// and the two beside it) are crossed; sensors overlapping deeper than
+    /// that give no hit and no material, as in the ACTS navigation of the
+    /// real TrackML files (docs/validation.md item 6).
+    bool diskPhiNeighbourhood = false;
   };
 
   /// The smallest transverse step between two crossings [mm]: a surface
@@ -201,6 +208,8 @@ class Simulator {
   std::vector<SensitiveLayer> m_layers;
   SurfaceNavigator m_navigator;
   std::shared_ptr<const ModuleLayout> m_modules;
+  /// Set with Config::diskPhiNeighbourhood and a layout.
+  std::shared_ptr<const DiskPhiNeighbourhood> m_neighbourhood;
 };
 
 }  // namespace conftrack
