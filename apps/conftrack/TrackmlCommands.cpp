@@ -4,6 +4,7 @@
 
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/Random.hpp"
 #include "conftrack/core/TextFile.hpp"
 #include "conftrack/evaluation/SimulationValidation.hpp"
 #include "conftrack/frontend/SubmissionScore.hpp"
@@ -94,13 +95,12 @@ struct TrackmlSimulationSetup {
       : modules(parseTrackmlModules(readTextFile(opt.detectorsCsv),
                                     opt.detectorsCsv)),
         detector(buildTrackmlDetector(modules, detectorOptions(opt))),
-        simulation(
-            detector,
+        sensors(
             opt.idealLayers
                 ? nullptr
                 : std::make_shared<const ModuleLayout>(buildTrackmlModuleLayout(
-                      modules, detector, detectorOptions(opt))),
-            simulationConfig(opt)) {}
+                      modules, detector, detectorOptions(opt)))),
+        simulation(detector, sensors, simulationConfig(opt)) {}
 
   static TrackmlDetectorOptions detectorOptions(const TrackmlSimOptions& opt) {
     TrackmlDetectorOptions options;
@@ -143,8 +143,20 @@ struct TrackmlSimulationSetup {
     return pair;
   }
 
+  /// The same simulation with the run seed of repeat `repeat` (>= 1) of
+  /// validate-trackml: the particles of `real` simulated again with
+  /// independent random streams.
+  Event simulateRepeat(std::uint64_t number, const Event& real,
+                       std::uint64_t repeat) const {
+    TrackmlEventSimulation::Config config = simulation.config();
+    config.seed = mix64(config.seed ^ mix64(repeat));
+    return TrackmlEventSimulation(detector, sensors, config)
+        .simulate(number, real.particles);
+  }
+
   std::vector<TrackmlModule> modules;
   Detector detector;
+  std::shared_ptr<const ModuleLayout> sensors;
   TrackmlEventSimulation simulation;
 };
 
@@ -189,6 +201,7 @@ struct ValidateOptions {
   std::vector<std::uint64_t> events;
   std::size_t minParticles = 100;
   double tolerance = 0.05;
+  std::size_t repeats = 1;
   std::string output;
 };
 
@@ -210,9 +223,10 @@ std::string formatDeviation(double deviation) {
 void printValidation(const SimulationValidationTables& t,
                      const ValidateOptions& opt) {
   std::printf(
-      "Hits per particle, real (nhits column) and simulated, %zu events, "
-      "%zu particles (%zu outside the table):\n",
-      t.events, t.particles, t.outsideBins);
+      "Hits per particle, real (nhits column) and simulated (mean of %zu "
+      "simulation%s), %zu events, %zu particles (%zu outside the table):\n",
+      opt.repeats, opt.repeats == 1 ? "" : "s", t.events, t.particles,
+      t.outsideBins);
   std::printf("%-12s %-10s %-9s %9s %8s %9s %10s\n", "pT [GeV]", "|eta|",
               "origin", "particles", "real", "simulated", "deviation");
   for (const HitCountBin& b : t.bins) {
@@ -294,17 +308,25 @@ void runValidate(const ValidateOptions& opt) {
       // Raw ids (no detector): subdetector = volume_id.
       realHits.push_back({h.detId.subdetector, h.detId.layer});
     }
+    std::vector<SimulationValidationTables> repeats;
     std::vector<VolumeLayer> simulatedHits;
-    simulatedHits.reserve(pair.simulated.hits.size());
-    for (const Hit& h : pair.simulated.hits) {
-      const std::optional<TrackmlId> id =
-          toTrackml(h.detId, &setup.detector.trackmlLayerMap());
-      if (id) {
-        simulatedHits.push_back({id->volume, id->layer});
+    for (std::size_t r = 0; r < opt.repeats; ++r) {
+      const Event simulated =
+          r == 0 ? pair.simulated
+                 : setup.simulateRepeat(numbers[i], pair.real, r);
+      simulatedHits.clear();
+      simulatedHits.reserve(simulated.hits.size());
+      for (const Hit& h : simulated.hits) {
+        const std::optional<TrackmlId> id =
+            toTrackml(h.detId, &setup.detector.trackmlLayerMap());
+        if (id) {
+          simulatedHits.push_back({id->volume, id->layer});
+        }
       }
+      repeats.push_back(validation.run(
+          {pair.real.particles, simulated.particles, realHits, simulatedHits}));
     }
-    perEvent[i] = validation.run({pair.real.particles, pair.simulated.particles,
-                                  realHits, simulatedHits});
+    perEvent[i] = SimulationValidationTables::averageRepeats(repeats);
   });
   // Summed in event order: the same tables for any thread count.
   SimulationValidationTables total = validation.empty();
@@ -373,6 +395,12 @@ void addTrackmlCommands(CLI::App& app) {
                 "Bins with fewer particles are marked (few)")
       ->capture_default_str()
       ->check(wholeNumber(1, 1e9));
+  v->add_option("--repeat", val->repeats,
+                "Simulate every event this many times (independent random "
+                "streams) and compare the mean: the simulation's own "
+                "spread out of the comparison")
+      ->capture_default_str()
+      ->check(wholeNumber(1, 100));
   v->add_option("--tolerance", val->tolerance,
                 "Relative deviation counted as agreement")
       ->capture_default_str()

@@ -96,6 +96,42 @@ void SimulationValidationTables::merge(
   unmatched += other.unmatched;
 }
 
+SimulationValidationTables SimulationValidationTables::averageRepeats(
+    std::span<const SimulationValidationTables> repeats) {
+  if (repeats.empty()) {
+    throw std::invalid_argument(
+        "SimulationValidationTables::averageRepeats: no tables");
+  }
+  SimulationValidationTables total = repeats.front();
+  for (const SimulationValidationTables& r : repeats.subspan(1)) {
+    if (r.bins.size() != total.bins.size() || r.events != total.events ||
+        r.particles != total.particles) {
+      throw std::invalid_argument(
+          "SimulationValidationTables::averageRepeats: not the same events");
+    }
+    for (std::size_t i = 0; i < total.bins.size(); ++i) {
+      if (r.bins[i].particles != total.bins[i].particles ||
+          r.bins[i].realHits != total.bins[i].realHits) {
+        throw std::invalid_argument(
+            "SimulationValidationTables::averageRepeats: not the same events");
+      }
+      total.bins[i].simulatedHits += r.bins[i].simulatedHits;
+    }
+    total.layers = mergeLayers(total.layers, r.layers);
+  }
+  const auto n = static_cast<double>(repeats.size());
+  for (HitCountBin& b : total.bins) {
+    b.simulatedHits /= n;
+  }
+  for (LayerHitCount& l : total.layers) {
+    // mergeLayers summed the real counts too: every repeat has the same.
+    l.real /= repeats.size();
+    l.simulated = static_cast<std::size_t>(
+        std::llround(static_cast<double>(l.simulated) / n));
+  }
+  return total;
+}
+
 BinAgreement binAgreement(const SimulationValidationTables& tables,
                           std::size_t minParticles, double tolerance) {
   BinAgreement result;

@@ -125,6 +125,46 @@ TEST(SimulationValidation, MergeSumsEventsAndLayers) {
                std::invalid_argument);
 }
 
+TEST(SimulationValidation, RepeatsAverageTheSimulatedColumnsOnly) {
+  const SimulationValidation v(SimulationValidation::Config{});
+  const std::vector<Particle> real = {particle(1, 0.5, 1.2, 0.0, 10),
+                                      particle(2, 0.5, 1.3, 0.0, 12)};
+  const std::vector<Particle> first = {particle(1, 0.5, 1.2, 0.0, 11),
+                                       particle(2, 0.5, 1.3, 0.0, 12)};
+  const std::vector<Particle> second = {particle(1, 0.5, 1.2, 0.0, 8),
+                                        particle(2, 0.5, 1.3, 0.0, 14)};
+  const std::vector<VolumeLayer> realHits = {{8, 2}, {8, 2}, {8, 4}};
+  const std::vector<VolumeLayer> oneHit = {{8, 2}};
+  const std::vector<VolumeLayer> fourHits = {{8, 2}, {8, 2}, {8, 2}, {13, 2}};
+  const std::vector<SimulationValidationTables> repeats = {
+      v.run({real, first, realHits, oneHit}),
+      v.run({real, second, realHits, fourHits})};
+  const SimulationValidationTables mean =
+      SimulationValidationTables::averageRepeats(repeats);
+  EXPECT_EQ(mean.events, 1u);
+  EXPECT_EQ(mean.particles, 2u);
+  const HitCountBin& bin = binOf(mean, 0.5, 1.25, false);
+  EXPECT_EQ(bin.particles, 2u);
+  EXPECT_DOUBLE_EQ(bin.realMean(), 11.0);
+  EXPECT_DOUBLE_EQ(bin.simulatedMean(), (23.0 + 22.0) / 2.0 / 2.0);
+  ASSERT_EQ(mean.layers.size(), 3u);
+  EXPECT_EQ(mean.layers[0].real, 2u);  // (8, 2): 1 and 3 simulated
+  EXPECT_EQ(mean.layers[0].simulated, 2u);
+  EXPECT_EQ(mean.layers[1].real, 1u);  // (8, 4): never simulated
+  EXPECT_EQ(mean.layers[1].simulated, 0u);
+  EXPECT_EQ(mean.layers[2].real, 0u);       // (13, 2): 1 of 2 repeats
+  EXPECT_EQ(mean.layers[2].simulated, 1u);  // 0.5 rounds away from 0
+
+  EXPECT_THROW(SimulationValidationTables::averageRepeats({}),
+               std::invalid_argument);
+  const std::vector<Particle> otherReal = {particle(1, 0.5, 1.2, 0.0, 9),
+                                           particle(2, 0.5, 1.3, 0.0, 12)};
+  const std::vector<SimulationValidationTables> mixed = {
+      repeats[0], v.run({otherReal, first, realHits, oneHit})};
+  EXPECT_THROW(SimulationValidationTables::averageRepeats(mixed),
+               std::invalid_argument);
+}
+
 TEST(SimulationValidation, AgreementCountsOnlyPopulatedBins) {
   SimulationValidationTables t;
   HitCountBin good;

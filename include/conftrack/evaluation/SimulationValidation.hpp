@@ -85,6 +85,15 @@ struct SimulationValidationTables {
   /// Adds the tables of other events with the same binning. Throws
   /// std::invalid_argument if the binnings differ.
   void merge(const SimulationValidationTables& other);
+
+  /// The tables of several simulations of the same real events (other
+  /// seeds): the real columns of the first, the simulated ones averaged
+  /// (hit-count sums divided by the number of repeats; layer counts
+  /// rounded to the nearest hit). Averaging takes the simulation's own
+  /// random spread out of the comparison. Throws std::invalid_argument for
+  /// no tables, or tables whose binning or real columns differ.
+  static SimulationValidationTables averageRepeats(
+      std::span<const SimulationValidationTables> repeats);
 };
 
 /// How many well-populated bins agree.
