@@ -144,14 +144,11 @@ struct TrackmlSimulationSetup {
   }
 
   /// The same simulation with the run seed of repeat `repeat` (>= 1) of
-  /// validate-trackml: the particles of `real` simulated again with
-  /// independent random streams.
-  Event simulateRepeat(std::uint64_t number, const Event& real,
-                       std::uint64_t repeat) const {
+  /// validate-trackml: independent random streams for every event.
+  TrackmlEventSimulation repeatSimulation(std::uint64_t repeat) const {
     TrackmlEventSimulation::Config config = simulation.config();
     config.seed = mix64(config.seed ^ mix64(repeat));
-    return TrackmlEventSimulation(detector, sensors, config)
-        .simulate(number, real.particles);
+    return TrackmlEventSimulation(detector, sensors, config);
   }
 
   std::vector<TrackmlModule> modules;
@@ -299,6 +296,11 @@ void runValidate(const ValidateOptions& opt) {
   }
   const TrackmlSimulationSetup setup(opt.sim);
   const SimulationValidation validation(SimulationValidation::Config{});
+  // Built once: repeat r >= 1 simulates with repeatSimulations[r - 1].
+  std::vector<TrackmlEventSimulation> repeatSimulations;
+  for (std::size_t r = 1; r < opt.repeats; ++r) {
+    repeatSimulations.push_back(setup.repeatSimulation(r));
+  }
   std::vector<SimulationValidationTables> perEvent(numbers.size());
   forEachEvent(numbers.size(), opt.sim.threads, "validate", [&](std::size_t i) {
     const auto pair = setup.simulate(opt.sim.input, numbers[i]);
@@ -311,9 +313,12 @@ void runValidate(const ValidateOptions& opt) {
     std::vector<SimulationValidationTables> repeats;
     std::vector<VolumeLayer> simulatedHits;
     for (std::size_t r = 0; r < opt.repeats; ++r) {
-      const Event simulated =
-          r == 0 ? pair.simulated
-                 : setup.simulateRepeat(numbers[i], pair.real, r);
+      Event again;
+      if (r > 0) {
+        again =
+            repeatSimulations[r - 1].simulate(numbers[i], pair.real.particles);
+      }
+      const Event& simulated = r == 0 ? pair.simulated : again;
       simulatedHits.clear();
       simulatedHits.reserve(simulated.hits.size());
       for (const Hit& h : simulated.hits) {

@@ -8,16 +8,11 @@
 namespace conftrack {
 
 DiskPhiNeighbourhood::DiskPhiNeighbourhood(const ModuleLayout& layout)
-    : m_layers(layout.numLayers()),
-      m_moduleLayer(layout.modules().size(), 0),
-      m_moduleBin(layout.modules().size(), 0) {
+    : m_layers(layout.numLayers()), m_moduleBin(layout.modules().size(), 0) {
   const std::vector<PlanarModule>& modules = layout.modules();
   std::vector<double> radii;
   for (std::uint32_t l = 0; l < layout.numLayers(); ++l) {
     const auto [begin, end] = layout.layerRange(l);
-    for (std::uint32_t i = begin; i < end; ++i) {
-      m_moduleLayer[i] = l;
-    }
     if (begin == end || !layout.layerIsDisk(l)) {
       continue;
     }
@@ -62,11 +57,12 @@ std::uint32_t DiskPhiNeighbourhood::binOf(const LayerBins& layer,
   return static_cast<std::uint32_t>(bin);
 }
 
-bool DiskPhiNeighbourhood::contains(std::uint32_t moduleIndex,
+bool DiskPhiNeighbourhood::contains(std::uint32_t layerIndex,
+                                    std::uint32_t moduleIndex,
                                     double phi) const {
-  const LayerBins& layer = m_layers[m_moduleLayer[moduleIndex]];
-  if (layer.bins < 4) {
-    return true;  // three bins or fewer: every sensor is a neighbour
+  const LayerBins& layer = m_layers[layerIndex];
+  if (layer.bins == 0) {
+    return true;  // not binned (barrel)
   }
   const std::uint32_t point = binOf(layer, phi);
   const std::uint32_t module = m_moduleBin[moduleIndex];

@@ -307,11 +307,14 @@ double Simulator::crossModules(
                             m_config.minCosIncidence) *
                 (layout.supportX0(layerIndex) / surface.thicknessX0)
           : 0.0;
-  const Vector3 layerCrossing = helix.position(s);
-  const double layerPhi = std::atan2(layerCrossing.y(), layerCrossing.x());
+  double layerPhi = 0.0;
+  if (m_neighbourhood) {
+    const Vector3 layerCrossing = helix.position(s);
+    layerPhi = std::atan2(layerCrossing.y(), layerCrossing.x());
+  }
   for (const ModuleCrossing& crossing : scratch.crossings) {
     if (m_neighbourhood &&
-        !m_neighbourhood->contains(crossing.module, layerPhi)) {
+        !m_neighbourhood->contains(layerIndex, crossing.module, layerPhi)) {
       continue;  // not looked up at this crossing: never reached
     }
     const PlanarModule& module = layout.modules()[crossing.module];

@@ -178,7 +178,7 @@ TEST(DiskPhiNeighbourhood, KeepsThreeOfTheInnerPixelRingsOverlaps) {
         continue;
       }
       ++holding;
-      returned += neighbourhood.contains(i, phi) ? 1 : 0;
+      returned += neighbourhood.contains(disk, i, phi) ? 1 : 0;
     }
     mostHolding = std::max(mostHolding, holding);
     mostReturned = std::max(mostReturned, returned);
@@ -192,11 +192,11 @@ TEST(DiskPhiNeighbourhood, KeepsThreeOfTheInnerPixelRingsOverlaps) {
   const PlanarModule& m = g.layout.modules()[begin];
   const double centre = std::atan2(m.center.y(), m.center.x());
   const double step = 2.0 * kPi / neighbourhood.bins(disk);
-  EXPECT_TRUE(neighbourhood.contains(begin, centre));
-  EXPECT_TRUE(neighbourhood.contains(begin, centre + step));
-  EXPECT_TRUE(neighbourhood.contains(begin, centre - step));
-  EXPECT_FALSE(neighbourhood.contains(begin, centre + 2.0 * step));
-  EXPECT_FALSE(neighbourhood.contains(begin, centre - 2.0 * step));
+  EXPECT_TRUE(neighbourhood.contains(disk, begin, centre));
+  EXPECT_TRUE(neighbourhood.contains(disk, begin, centre + step));
+  EXPECT_TRUE(neighbourhood.contains(disk, begin, centre - step));
+  EXPECT_FALSE(neighbourhood.contains(disk, begin, centre + 2.0 * step));
+  EXPECT_FALSE(neighbourhood.contains(disk, begin, centre - 2.0 * step));
 }
 
 TEST(ModuleCrossings, AgreeWithBruteForceOnTrackml) {

@@ -35,9 +35,10 @@ class DiskPhiNeighbourhood {
   /// Bins the disk layers of `layout`.
   explicit DiskPhiNeighbourhood(const ModuleLayout& layout);
 
-  /// Whether sensor `moduleIndex` (an index into layout.modules()) is in
-  /// the neighbourhood of azimuth `phi` [rad] on its layer.
-  bool contains(std::uint32_t moduleIndex, double phi) const;
+  /// Whether sensor `moduleIndex` (an index into layout.modules()) of
+  /// layer `layer` is in the neighbourhood of azimuth `phi` [rad].
+  bool contains(std::uint32_t layer, std::uint32_t moduleIndex,
+                double phi) const;
 
   /// The number of phi bins of layer `layer` (0: not binned).
   std::uint32_t bins(std::uint32_t layer) const { return m_layers[layer].bins; }
@@ -51,8 +52,7 @@ class DiskPhiNeighbourhood {
   std::uint32_t binOf(const LayerBins& layer, double phi) const;
 
   std::vector<LayerBins> m_layers;
-  /// Layer and phi bin of every sensor.
-  std::vector<std::uint32_t> m_moduleLayer;
+  /// Phi bin of every sensor.
   std::vector<std::uint32_t> m_moduleBin;
 };
 
