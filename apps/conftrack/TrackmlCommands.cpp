@@ -169,7 +169,8 @@ void addSimulationOptions(CLI::App& command, TrackmlSimOptions& sim) {
       ->check(finiteNumber(0.0, 0.99));
   command
       .add_option("--min-pt", sim.minPt,
-                  "Particles below this pT [GeV] are not simulated")
+                  "The simulation's pT cut [GeV]: a particle ends after the "
+                  "first surface it crosses below it")
       ->capture_default_str()
       ->check(finiteNumber(0.0, 1e6));
   command.add_flag("--ideal-layers", sim.idealLayers,

@@ -61,6 +61,10 @@ Simulator::Simulator(const Detector& detector, const Config& config,
   if (!(m_config.minMomentum >= 0.0)) {
     throw std::invalid_argument("Simulator: minMomentum must be >= 0");
   }
+  if (!(m_config.minTransverseMomentum >= 0.0)) {
+    throw std::invalid_argument(
+        "Simulator: minTransverseMomentum must be >= 0");
+  }
   if (!(m_config.maxTurns > 0.0)) {
     throw std::invalid_argument("Simulator: maxTurns must be positive");
   }
@@ -278,6 +282,9 @@ std::uint32_t Simulator::simulateParticle(
     if (momentum.head<2>().squaredNorm() == 0.0) {
       break;  // scattered exactly along z: no helix
     }
+    if (momentum.head<2>().norm() < m_config.minTransverseMomentum) {
+      break;  // below the transverse-momentum floor
+    }
   }
   return nHits;
 }
@@ -312,11 +319,19 @@ double Simulator::crossModules(
     const Vector3 layerCrossing = helix.position(s);
     layerPhi = std::atan2(layerCrossing.y(), layerCrossing.x());
   }
+  // Below the pT floor the particle ends in the first sensor it meets
+  // (the real TrackML files: one hit, never two; docs/validation.md).
+  const bool belowFloor = helix.pt() < m_config.minTransverseMomentum;
+  bool metOne = false;
   for (const ModuleCrossing& crossing : scratch.crossings) {
     if (m_neighbourhood &&
         !m_neighbourhood->contains(layerIndex, crossing.module, layerPhi)) {
       continue;  // not looked up at this crossing: never reached
     }
+    if (belowFloor && metOne) {
+      break;
+    }
+    metOne = true;
     const PlanarModule& module = layout.modules()[crossing.module];
     Vector3 truePosition;
     Vector3 momentum;

@@ -263,13 +263,20 @@ std::vector<Particle> moveTrackmlInteractions(std::vector<Particle> particles,
   return particles;
 }
 
+Simulator::Config TrackmlEventSimulation::withPtFloor(const Config& config) {
+  Simulator::Config simulator = config.simulator;
+  simulator.minTransverseMomentum =
+      std::max(simulator.minTransverseMomentum, config.minPt);
+  return simulator;
+}
+
 TrackmlEventSimulation::TrackmlEventSimulation(
     const Detector& detector, std::shared_ptr<const ModuleLayout> modules,
     Config config)
     : m_detector(&detector),
       m_modules(std::move(modules)),
       m_config(std::move(config)),
-      m_simulator(detector, m_config.simulator, m_modules) {
+      m_simulator(detector, withPtFloor(m_config), m_modules) {
   if (!(m_config.noiseFraction >= 0.0 && m_config.noiseFraction < 1.0)) {
     throw std::invalid_argument(
         "TrackmlEventSimulation: noiseFraction must be in [0, 1)");
@@ -344,21 +351,10 @@ Event TrackmlEventSimulation::simulate(
   const std::vector<Particle>& particles = m_region ? moved : input;
   RandomEngine simRng =
       makeEngine(m_config.seed, eventNumber, RandomStream::eSimulation);
-  if (m_config.minPt > 0.0) {
-    std::vector<Particle> simulated;
-    for (const Particle& p : particles) {
-      if (p.pt() >= m_config.minPt) {
-        simulated.push_back(p);
-      } else {
-        event.particles.push_back(p);
-        event.particles.back().nHits = 0;
-      }
-    }
-    m_simulator.simulate(simulated, simRng, event);
-    event.sortParticles();
-  } else {
-    m_simulator.simulate(particles, simRng, event);
-  }
+  // Particles below minPt are simulated too: they end after their first
+  // crossing (withPtFloor), which gives the one hit of the real files'
+  // displaced particles below the cut.
+  m_simulator.simulate(particles, simRng, event);
 
   const std::vector<SensitiveLayer>& layers = m_detector->layers();
   auto layerIndex = [&](const Hit& hit) {

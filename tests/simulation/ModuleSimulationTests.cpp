@@ -68,8 +68,9 @@ std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
     m.sigmaV = 0.05;
     modules.push_back(m);
   }
-  return std::make_shared<const ModuleLayout>(detector, modules,
-                                              std::vector<double>{0.001});
+  return std::make_shared<const ModuleLayout>(
+      detector, modules,
+      std::vector<double>(detector.layers().size(), 0.001));
 }
 
 Particle particle(std::uint64_t id, double pt, double phi, double eta,
@@ -119,6 +120,30 @@ TEST(ModuleSimulation, OverlapGivesTwoHitsAndGapNone) {
   gapped.simulate(particles, rng, b);
   EXPECT_EQ(b.particles[0].nHits, 1u);
   EXPECT_EQ(b.particles[1].nHits, 0u);
+}
+
+TEST(ModuleSimulation, BelowThePtFloorAParticleEndsInItsFirstSensor) {
+  const Detector detector = barrels({100.0, 200.0}, 200.0, 0.01);
+  Simulator::Config config = test::idealSimulatorConfig();
+  // At the border of sensors 1 and 2 of an overlapping ring: two hits on
+  // the first layer, one on the second.
+  const std::vector<Particle> particles = {
+      particle(1, 2.0, kPi / 16, -0.2), particle(2, 20.0, kPi / 16, -0.2)};
+  const auto hitsWith = [&](double floor) {
+    config.minTransverseMomentum = floor;
+    Event event;
+    RandomEngine rng(5);
+    Simulator(detector, config, ring(detector, 16, 1.1))
+        .simulate(particles, rng, event);
+    return std::vector<std::uint32_t>{event.particles[0].nHits,
+                                      event.particles[1].nHits};
+  };
+  using Counts = std::vector<std::uint32_t>;
+  EXPECT_EQ(hitsWith(0.0), (Counts{3, 3}));
+  // Below the floor: the first sensor's hit only, not the overlapping one.
+  EXPECT_EQ(hitsWith(10.0), (Counts{1, 3}));
+  config.minTransverseMomentum = -1.0;
+  EXPECT_THROW(Simulator(detector, config), std::invalid_argument);
 }
 
 TEST(ModuleSimulation, SmearedInTheSensorFrameAndKeptInside) {

@@ -83,6 +83,11 @@ class Simulator {
     /// Particles below this momentum are not simulated or are stopped
     /// [GeV]. 10 MeV: at 4 T the diameter is then below 17 mm.
     double minMomentum = 10.0 * units::MeV;
+    /// A particle ends after a crossing (its hits recorded, its material
+    /// applied) at which its transverse momentum is below this [GeV] (0:
+    /// never). The TrackML simulation applies its 0.15 GeV cut so
+    /// (TrackmlEventSimulation::Config::minPt).
+    double minTransverseMomentum = 0.0;
     /// Stop a looper after this many turns (transverse path / (2 pi rho),
     /// summed over its helix segments); Geant4 has no such limit. Most
     /// loopers leave the vertex barrel along z or range out before: for
