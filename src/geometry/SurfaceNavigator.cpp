@@ -25,9 +25,13 @@ Vector3 NavigationSurface::normal(const Vector3& position) const {
 double NavigationSurface::xOverX0(const Vector3& position,
                                   const Vector3& direction,
                                   double minCosIncidence) const {
-  const double cosIncidence =
-      std::max(std::abs(direction.dot(normal(position))),
-               std::max(minCosIncidence, grazingCos));
+  // The chord cap bounds the transverse path through the shell; a track
+  // at polar angle theta covers that path over 1/sin(theta) more length,
+  // so the floor scales with the transverse part of the direction (a
+  // forward track crossing radially keeps its full t / sin(theta)).
+  const double cosIncidence = std::max(
+      std::abs(direction.dot(normal(position))),
+      std::max(minCosIncidence, grazingCos * direction.head<2>().norm()));
   return thicknessX0 / cosIncidence;
 }
 

@@ -340,6 +340,43 @@ TEST(PropagationNavigator, NearestCrossingMatchesBruteForce) {
   EXPECT_GT(cones, 10);
 }
 
+TEST(PropagationMaterial, GrazingCapBoundsOnlyTheTransversePath) {
+  // The TrackML beam pipe (r = 19 mm, 0.8 mm Be): a track tangent to it in
+  // the transverse plane traverses at most the chord sqrt(2 r t); a forward
+  // track (theta = 2.7 deg) crossing it radially traverses t / sin(theta),
+  // more than that chord allows a transverse track, and keeps it; a
+  // forward track tangent to it traverses the chord over sin(theta).
+  const Detector detector = loadDetector("trackml");
+  const SurfaceNavigator navigator(detector);
+  const NavigationSurface* pipe = nullptr;
+  for (const NavigationSurface& s : navigator.surfaces()) {
+    if (!s.isSensitive() && s.shape == SurfaceShape::eCylinder &&
+        std::abs(s.r - 19.0 * mm) < 1e-9) {
+      pipe = &s;
+    }
+  }
+  ASSERT_NE(pipe, nullptr);
+  const double t = pipe->thicknessX0;
+  const double sinTheta = std::sin(2.7 * degree);
+  ASSERT_GT(pipe->grazingCos, 1.5 * sinTheta);  // the case that matters
+  const Vector3 onPipe(19.0 * mm, 0.0, 400.0 * mm);
+  const double minCos = 0.01;
+  EXPECT_NEAR(pipe->xOverX0(onPipe, Vector3(0.0, 1.0, 0.0), minCos),
+              t / pipe->grazingCos, 1e-12);
+  EXPECT_NEAR(
+      pipe->xOverX0(onPipe, Vector3(sinTheta, 0.0, std::cos(2.7 * degree)),
+                    minCos),
+      t / sinTheta, 1e-12);
+  EXPECT_NEAR(pipe->xOverX0(
+                  onPipe, Vector3(0.0, sinTheta, std::cos(2.7 * degree)), 1e-3),
+              t / (pipe->grazingCos * sinTheta), 1e-9);
+  // ... unless minCosIncidence caps it first.
+  EXPECT_NEAR(
+      pipe->xOverX0(onPipe, Vector3(0.0, sinTheta, std::cos(2.7 * degree)),
+                    minCos),
+      t / minCos, 1e-9);
+}
+
 TEST(PropagationNavigator, SoftForwardTrackCrossesBeamPipeCone) {
   // Straight tracks from the IP stay on one side of the steel beam-pipe
   // cone (its opening angle is 6.75 deg); a soft forward track, whose
