@@ -25,13 +25,26 @@ Vector3 NavigationSurface::normal(const Vector3& position) const {
 double NavigationSurface::xOverX0(const Vector3& position,
                                   const Vector3& direction,
                                   double minCosIncidence) const {
-  // The chord cap bounds the transverse path through the shell; a track
-  // at polar angle theta covers that path over 1/sin(theta) more length,
-  // so the floor scales with the transverse part of the direction (a
-  // forward track crossing radially keeps its full t / sin(theta)).
-  const double cosIncidence = std::max(
-      std::abs(direction.dot(normal(position))),
-      std::max(minCosIncidence, grazingCos * direction.head<2>().norm()));
+  // The chord cap bounds the path across the shell's curvature: in the
+  // plane perpendicular to the generator line (z for a cylinder, the
+  // cone's slope line for a cone). A track moving along the generator
+  // covers that path over 1/|d_perp| more length (a forward track crossing
+  // a cylinder radially keeps its full t / sin(theta)), so the floor is
+  // grazingCos |d_perp|.
+  double acrossGenerator = direction.head<2>().norm();
+  if (shape == SurfaceShape::eCone) {
+    const double r = position.head<2>().norm();
+    const Vector3 radial =
+        r > 0.0 ? Vector3(position.x() / r, position.y() / r, 0.0)
+                : Vector3::UnitX();
+    const Vector3 generator =
+        (coneSlope * radial + Vector3::UnitZ()).normalized();
+    const double along = direction.dot(generator);
+    acrossGenerator = std::sqrt(std::max(0.0, 1.0 - along * along));
+  }
+  const double cosIncidence =
+      std::max(std::abs(direction.dot(normal(position))),
+               std::max(minCosIncidence, grazingCos * acrossGenerator));
   return thicknessX0 / cosIncidence;
 }
 

@@ -377,6 +377,31 @@ TEST(PropagationMaterial, GrazingCapBoundsOnlyTheTransversePath) {
       t / minCos, 1e-9);
 }
 
+TEST(PropagationMaterial, ConeChordCapActsAcrossItsSlopeLine) {
+  // CLICdet's steel beam-pipe cone: a track tangent to it azimuthally is
+  // capped at the chord across its curvature; one running along its slope
+  // line inside the wall is not (only minCosIncidence bounds it).
+  const Detector detector = loadDetector("clicdet");
+  const SurfaceNavigator navigator(detector);
+  const NavigationSurface* cone = nullptr;
+  for (const NavigationSurface& s : navigator.surfaces()) {
+    if (s.shape == SurfaceShape::eCone && s.thicknessX0 > 0.1) {
+      cone = &s;
+    }
+  }
+  ASSERT_NE(cone, nullptr);
+  ASSERT_GT(cone->grazingCos, 0.1);
+  const double z = 0.5 * (cone->zMin + cone->zMax);
+  const Vector3 onCone(cone->coneR1 + cone->coneSlope * (z - cone->zMin), 0.0,
+                       z);
+  const double minCos = 0.01;
+  EXPECT_NEAR(cone->xOverX0(onCone, Vector3(0.0, 1.0, 0.0), minCos),
+              cone->thicknessX0 / cone->grazingCos, 1e-12);
+  const Vector3 alongSlope = Vector3(cone->coneSlope, 0.0, 1.0).normalized();
+  EXPECT_NEAR(cone->xOverX0(onCone, alongSlope, minCos),
+              cone->thicknessX0 / minCos, 1e-9);
+}
+
 TEST(PropagationNavigator, SoftForwardTrackCrossesBeamPipeCone) {
   // Straight tracks from the IP stay on one side of the steel beam-pipe
   // cone (its opening angle is 6.75 deg); a soft forward track, whose

@@ -34,9 +34,10 @@ struct NavigationSurface {
   /// Smallest |cos(incidence)| that makes geometric sense on a curved
   /// surface: a track tangent to a shell of radius r and thickness t
   /// (silicon-equivalent, thicknessX0 * X0(Si)) traverses at most
-  /// sqrt(2 r t) = t / sqrt(t / (2 r)) in the transverse plane, so the
-  /// floor is grazingCos times the transverse part of the direction. 0 for
-  /// disks (flat).
+  /// sqrt(2 r t) = t / sqrt(t / (2 r)) across the shell's curvature, in
+  /// the plane perpendicular to the generator line (z for cylinders), so
+  /// the floor is grazingCos times the direction's part in that plane. 0
+  /// for disks (flat).
   double grazingCos = 0.0;
   /// Index into Detector::layers() for sensitive layers, -1 for passive.
   std::int32_t layer = -1;
@@ -49,8 +50,8 @@ struct NavigationSurface {
   Vector3 normal(const Vector3& position) const;
   /// Material traversed by a track crossing at `position` along the unit
   /// `direction`: thicknessX0 / |cos alpha| (physics.md 4), with |cos alpha|
-  /// floored at max(minCosIncidence, grazingCos sin(theta)). The one
-  /// definition shared
+  /// floored at max(minCosIncidence, grazingCos |d_perp|) (d_perp: the part
+  /// of `direction` across the generator line). The one definition shared
   /// by the simulation and the fit, so that both see the same material.
   double xOverX0(const Vector3& position, const Vector3& direction,
                  double minCosIncidence) const;
