@@ -32,14 +32,14 @@ std::vector<TrackmlLayer> trackmlLayers(
 }
 }  // namespace
 
-Detector::Detector(std::string name, std::string model, double bz,
+Detector::Detector(std::string name, std::string model, MagneticField field,
                    double envelopeR, double envelopeZ,
                    std::vector<Subdetector> subdetectors,
                    std::vector<SensitiveLayer> layers,
                    std::vector<PassiveSurface> passives)
     : m_name(std::move(name)),
       m_model(std::move(model)),
-      m_bz(bz),
+      m_field(std::move(field)),
       m_envelopeR(envelopeR),
       m_envelopeZ(envelopeZ),
       m_subdetectors(std::move(subdetectors)),

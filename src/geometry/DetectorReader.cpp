@@ -36,7 +36,21 @@ class Builder {
     ConfigTable det = m_root.getTable("detector");
     std::string name = det.getString("name");
     std::string model = det.getString("model", name);
-    double bz = det.getDouble("bz_T", Range::positive()) * units::T;
+    MagneticField::Config field;
+    field.centralBz = det.getDouble("bz_T", Range::positive()) * units::T;
+    // Optional: a solenoid's field instead of a uniform one (MagneticField).
+    field.solenoidRadius =
+        det.getDouble("solenoid_radius_mm", 0.0, Range::nonNegative()) *
+        units::mm;
+    field.solenoidHalfLength =
+        det.getDouble("solenoid_half_length_mm", 0.0, Range::nonNegative()) *
+        units::mm;
+    if ((field.solenoidRadius > 0.0) != (field.solenoidHalfLength > 0.0)) {
+      det.fail(field.solenoidRadius > 0.0 ? "solenoid_half_length_mm"
+                                          : "solenoid_radius_mm",
+               "a solenoid needs both solenoid_radius_mm and "
+               "solenoid_half_length_mm");
+    }
     m_envelopeR = det.getDouble("envelope_r_mm", Range::positive()) * units::mm;
     m_envelopeZ = det.getDouble("envelope_z_mm", Range::positive()) * units::mm;
     det.rejectUnknownKeys();
@@ -63,7 +77,7 @@ class Builder {
     }
     m_root.rejectUnknownKeys();
     checkOverlaps();
-    return Detector(name, model, bz, m_envelopeR, m_envelopeZ,
+    return Detector(name, model, MagneticField(field), m_envelopeR, m_envelopeZ,
                     std::move(m_subdetectors), std::move(m_layers),
                     std::move(m_passives));
   }

@@ -37,6 +37,10 @@ Vector3 deflect(const Vector3& dir, double theta1, double theta2) {
   return out.normalized();
 }
 
+/// Safety cap on the field steps of one particle (a 50 mm step crosses the
+/// TrackML tracker's 6 m length in 120).
+constexpr unsigned kMaxFieldSteps = 10000;
+
 }  // namespace
 
 Simulator::Simulator(const Detector& detector)
@@ -49,6 +53,8 @@ Simulator::Simulator(const Detector& detector, const Config& config,
                      std::shared_ptr<const ModuleLayout> modules)
     : m_config(config),
       m_bz(detector.bz()),
+      m_field(detector.field()),
+      m_uniformField(detector.field().isUniform()),
       m_envelopeR(detector.envelopeR()),
       m_envelopeZ(detector.envelopeZ()),
       m_layers(detector.layers()),
@@ -143,6 +149,23 @@ void Simulator::simulate(const std::vector<Particle>& particles,
   }
 }
 
+Vector3 Simulator::transverseFieldKick(const Helix& helix, double s,
+                                       double charge,
+                                       const Vector3& momentum) const {
+  // dp/dl = q k (d x B): the segment's helix took B_z; the rest of the
+  // field, (B_x, B_y, 0) at the segment's middle, turns the momentum by
+  // q k l (d x B_perp) over its path l, without changing its magnitude.
+  const Vector3 middle = helix.position(0.5 * s);
+  Vector3 transverse = m_field.at(middle);
+  transverse.z() = 0.0;
+  const double magnitude = momentum.norm();
+  const Vector3 direction = momentum / magnitude;
+  const Vector3 kicked = momentum + charge * constants::kPtPerTeslaMm *
+                                        helix.pathLength(s) *
+                                        direction.cross(transverse);
+  return magnitude * kicked.normalized();
+}
+
 std::uint32_t Simulator::simulateParticle(
     const Particle& particle, RandomEngine& rng,
     std::normal_distribution<double>& normal, std::uint64_t& nextHitId,
@@ -177,8 +200,23 @@ std::uint32_t Simulator::simulateParticle(
   std::uint32_t nHits = 0;
   constexpr double kInf = std::numeric_limits<double>::infinity();
 
+  unsigned fieldSteps = 0;
+  // True while the helix starts at the end of a field step rather than at a
+  // surface: sensors of the next layer may then lie behind its start.
+  bool afterFieldStep = false;
   for (unsigned crossing = 0; crossing < m_config.maxCrossings; ++crossing) {
-    const Helix helix(position, momentum, charge, m_bz);
+    // A non-uniform field is taken as constant along a helix segment of at
+    // most fieldStep: B_z of the segment's middle (predicted with that of
+    // its start) bends the helix, the transverse field kicks at its end.
+    double bz = m_bz;
+    double sStep = kInf;
+    if (!m_uniformField) {
+      const double tanLambda = momentum.z() / momentum.head<2>().norm();
+      sStep = m_config.fieldStep / std::sqrt(1.0 + tanLambda * tanLambda);
+      const Helix start(position, momentum, charge, m_field.at(position).z());
+      bz = m_field.at(start.position(0.5 * sStep)).z();
+    }
+    const Helix helix(position, momentum, charge, bz);
     // Path limit: the envelope exit (cylinder or end plane) and the turns
     // left.
     double sLimit =
@@ -193,13 +231,29 @@ std::uint32_t Simulator::simulateParticle(
       sLimit = std::min(sLimit, (m_config.maxTurns - turns) * helix.period());
     }
     const SurfaceCrossing next =
-        m_navigator.nextCrossing(helix, kMinStep, sLimit);
+        m_navigator.nextCrossing(helix, kMinStep, std::min(sLimit, sStep));
     if (!next.found()) {
+      if (sStep < sLimit && ++fieldSteps < kMaxFieldSteps) {
+        // No surface on this segment: move to its end and go on.
+        Vector3 momentumOut;
+        helix.positionAndMomentum(sStep, position, momentumOut);
+        time += helix.pathLength(sStep) / (p / energy * constants::c);
+        turns += sStep * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
+        momentum = transverseFieldKick(helix, sStep, charge, momentumOut);
+        afterFieldStep = true;
+        --crossing;  // a field step is not a surface crossing
+        continue;
+      }
       break;  // leaves the tracker or has looped enough
     }
     const double s = next.s;
+    const bool lookBehind = afterFieldStep;
+    afterFieldStep = false;
     Vector3 momentumIn;
     helix.positionAndMomentum(s, position, momentumIn);
+    if (!m_uniformField) {
+      momentumIn = transverseFieldKick(helix, s, charge, momentumIn);
+    }
     const double beta = p / energy;
     time += helix.pathLength(s) / (beta * constants::c);
     turns += s * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
@@ -211,10 +265,10 @@ std::uint32_t Simulator::simulateParticle(
         surface.isSensitive() && m_modules &&
         m_modules->hasModules(static_cast<std::uint32_t>(surface.layer));
     if (modular) {
-      xOverX0 =
-          crossModules(helix, s, static_cast<std::uint32_t>(surface.layer),
-                       surface, direction, beta, time, particle.id, blindBand,
-                       rng, normal, nextHitId, scratch, out, nHits);
+      xOverX0 = crossModules(helix, s, lookBehind,
+                             static_cast<std::uint32_t>(surface.layer), surface,
+                             direction, beta, time, particle.id, blindBand, rng,
+                             normal, nextHitId, scratch, out, nHits);
     } else if (surface.thicknessX0 > 0.0) {
       xOverX0 = surface.xOverX0(position, direction, m_config.minCosIncidence);
     }
@@ -290,7 +344,7 @@ std::uint32_t Simulator::simulateParticle(
 }
 
 double Simulator::crossModules(
-    const Helix& helix, double s, std::uint32_t layerIndex,
+    const Helix& helix, double s, bool lookBehind, std::uint32_t layerIndex,
     const NavigationSurface& surface, const Vector3& direction, double beta,
     double time, std::uint64_t particleId, int blindBand, RandomEngine& rng,
     std::normal_distribution<double>& normal, std::uint64_t& nextHitId,
@@ -301,8 +355,11 @@ double Simulator::crossModules(
   // A layer whose sensors reach past the neighbouring layers' surfaces
   // (CLICdet's spiral petals) can have sensors behind the previous
   // crossing, where this helix starts: look backwards too.
+  // So can a helix that starts at the end of a field step, inside the
+  // shell of sensors in front of the layer surface (lookBehind): the
+  // previous segment did not reach the surface, so none of them is taken.
   const double sMin =
-      layout.shellHalfThickness(layerIndex) > kBackwardSearchShell
+      lookBehind || layout.shellHalfThickness(layerIndex) > kBackwardSearchShell
           ? -std::numeric_limits<double>::infinity()
           : kMinStep;
   findModuleCrossings(helix, s, sMin, layerIndex, layout, scratch.candidates,

@@ -6,6 +6,7 @@
 
 #include "conftrack/core/DetectorId.hpp"
 #include "conftrack/core/TrackmlLayerMap.hpp"
+#include "conftrack/geometry/MagneticField.hpp"
 #include "conftrack/geometry/Surfaces.hpp"
 
 #include <cstdint>
@@ -35,8 +36,9 @@ class Detector {
  public:
   /// Builds and indexes a detector. Layer ids must be consistent with the
   /// subdetector list (DetectorReader guarantees it).
-  Detector(std::string name, std::string model, double bz, double envelopeR,
-           double envelopeZ, std::vector<Subdetector> subdetectors,
+  Detector(std::string name, std::string model, MagneticField field,
+           double envelopeR, double envelopeZ,
+           std::vector<Subdetector> subdetectors,
            std::vector<SensitiveLayer> layers,
            std::vector<PassiveSurface> passives);
 
@@ -44,8 +46,11 @@ class Detector {
   const std::string& name() const { return m_name; }
   /// Detector model, e.g. "CLIC_o3_v14".
   const std::string& model() const { return m_model; }
-  /// Uniform solenoid field along +z [T].
-  double bz() const { return m_bz; }
+  /// The field along +z at the centre [T]: the field of the reconstruction,
+  /// which assumes it uniform.
+  double bz() const { return m_field.centralBz(); }
+  /// The field everywhere (uniform, or a solenoid's; the simulation).
+  const MagneticField& field() const { return m_field; }
   /// Tracker volume: r < envelopeR(), |z| < envelopeZ() [mm].
   double envelopeR() const { return m_envelopeR; }
   double envelopeZ() const { return m_envelopeZ; }
@@ -72,7 +77,7 @@ class Detector {
  private:
   std::string m_name;
   std::string m_model;
-  double m_bz;
+  MagneticField m_field;
   double m_envelopeR;
   double m_envelopeZ;
   std::vector<Subdetector> m_subdetectors;

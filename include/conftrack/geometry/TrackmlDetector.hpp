@@ -25,6 +25,9 @@
 ///   (acts-project/acts Examples/src/GenericDetectorML.ipp), with its beam
 ///   pipe (r 19 mm, 0.8 mm Be) and pixel support tube (r 200 mm, 1.8 mm Be)
 ///   as passive cylinders;
+/// - field: 2 T at the centre, the field of a solenoid of radius
+///   kTrackmlSolenoidRadius and half-length kTrackmlSolenoidHalfLength
+///   (MagneticField), fitted to the real events;
 /// - module segmentation: TrackML numbers modules 1..N per layer and
 ///   conftrack requires module < n_phi * n_z, so n_phi is the number of
 ///   modules per phi ring and n_z (n_rings) the smallest count with
@@ -50,6 +53,13 @@
 #include <vector>
 
 namespace conftrack {
+
+/// The solenoid of the TrackML field (MagneticField): radius and
+/// half-length [mm] fitted to the real events' track curvature along z,
+/// which falls to 0.90 of its central value at |z| = 1.2-1.5 m and 0.68 at
+/// 2.1-2.4 m (scripts/field_profile.py; docs/validation.md item 9).
+inline constexpr double kTrackmlSolenoidRadius = 2770.0;
+inline constexpr double kTrackmlSolenoidHalfLength = 2930.0;
 
 /// One sensor of the TrackML detector file.
 struct TrackmlModule {

@@ -1,0 +1,56 @@
+#pragma once
+
+/// @file MagneticField.hpp
+/// The tracker's magnetic field: uniform along z, or the field of a finite
+/// solenoid, whose bending weakens towards its ends (the real TrackML
+/// events: docs/validation.md, item 9).
+
+#include "conftrack/core/Types.hpp"
+
+namespace conftrack {
+
+/// An axially symmetric field about the z axis. Uniform (solenoidRadius
+/// 0) or the field of a thin solenoid sheet of radius a and half-length L
+/// centred on the origin, in the paraxial expansion about the axis:
+///   B_z(r, z) = B0 / g(0) (g(z) - r^2 / 4 g''(z)),
+///   B_r(r, z) = B0 / g(0) (-r / 2 g'(z) + r^3 / 16 g'''(z)),
+/// with the on-axis profile g(z) = f(L - z) + f(L + z), f(u) = u /
+/// sqrt(u^2 + a^2). div B = 0 exactly, curl B = O(r^3); the expansion
+/// holds for r well inside a (the TrackML fit: a = 2.77 m, tracker r <
+/// 1.03 m: curl below 2 % of B0 / a).
+class MagneticField {
+ public:
+  struct Config {
+    /// B_z at the centre [T]; >= 0 (0: field-free), > 0 for a solenoid.
+    double centralBz = 0.0;
+    /// Solenoid radius a [mm]; 0: uniform field.
+    double solenoidRadius = 0.0;
+    /// Solenoid half-length L [mm]; > 0 when solenoidRadius > 0.
+    double solenoidHalfLength = 0.0;
+  };
+
+  /// A uniform field of 1 T (placeholder for default-constructed
+  /// detectors; readers always set the field).
+  MagneticField() : MagneticField(Config{1.0, 0.0, 0.0}) {}
+  /// Throws std::invalid_argument if centralBz < 0, the radius is
+  /// negative, or a solenoid has a non-positive half-length or field.
+  explicit MagneticField(const Config& config);
+
+  const Config& config() const { return m_config; }
+  /// B_z at the origin [T].
+  double centralBz() const { return m_config.centralBz; }
+  /// True for a field without gradient.
+  bool isUniform() const { return m_config.solenoidRadius == 0.0; }
+  /// The field vector at a point [T].
+  Vector3 at(const Vector3& position) const;
+
+ private:
+  /// g and its first three derivatives at z.
+  void profile(double z, double& g, double& g1, double& g2, double& g3) const;
+
+  Config m_config;
+  /// B0 / g(0).
+  double m_scale = 1.0;
+};
+
+}  // namespace conftrack
