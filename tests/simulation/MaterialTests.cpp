@@ -103,8 +103,8 @@ Detector singleLayerDetector(double thickness) {
   layers[0].name = "L0";
   layers[1].name = "L1";
   Subdetector sub{"Barrel", SubdetectorKind::eBarrel, {0, 1}, 2};
-  return Detector("OneLayer", "OneLayer", MagneticField({0.0, 0.0, 0.0}), 200.0, 1500.0, {sub}, layers,
-                  {});
+  return Detector("OneLayer", "OneLayer", MagneticField({0.0, 0.0, 0.0}), 200.0,
+                  1500.0, {sub}, layers, {});
 }
 
 Particle muon(std::uint64_t id, double p, double theta) {
