@@ -204,7 +204,9 @@ std::uint32_t Simulator::simulateParticle(
   // True while the helix starts at the end of a field step rather than at a
   // surface: sensors of the next layer may then lie behind its start.
   bool afterFieldStep = false;
-  for (unsigned crossing = 0; crossing < m_config.maxCrossings; ++crossing) {
+  // Surface crossings counted against maxCrossings; field steps are not.
+  unsigned crossings = 0;
+  while (crossings < m_config.maxCrossings) {
     // A non-uniform field is taken as constant along a helix segment of at
     // most fieldStep: B_z of the segment's middle (predicted with that of
     // its start) bends the helix, the transverse field kicks at its end.
@@ -241,11 +243,11 @@ std::uint32_t Simulator::simulateParticle(
         turns += sStep * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
         momentum = transverseFieldKick(helix, sStep, charge, momentumOut);
         afterFieldStep = true;
-        --crossing;  // a field step is not a surface crossing
         continue;
       }
       break;  // leaves the tracker or has looped enough
     }
+    ++crossings;
     const double s = next.s;
     const bool lookBehind = afterFieldStep;
     afterFieldStep = false;
