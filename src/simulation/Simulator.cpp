@@ -52,9 +52,7 @@ Simulator::Simulator(const Detector& detector, const Config& config)
 Simulator::Simulator(const Detector& detector, const Config& config,
                      std::shared_ptr<const ModuleLayout> modules)
     : m_config(config),
-      m_bz(detector.bz()),
       m_field(detector.field()),
-      m_uniformField(detector.field().isUniform()),
       m_envelopeR(detector.envelopeR()),
       m_envelopeZ(detector.envelopeZ()),
       m_layers(detector.layers()),
@@ -66,6 +64,9 @@ Simulator::Simulator(const Detector& detector, const Config& config,
   }
   if (!(m_config.minMomentum >= 0.0)) {
     throw std::invalid_argument("Simulator: minMomentum must be >= 0");
+  }
+  if (!(m_config.fieldStep > 0.0)) {
+    throw std::invalid_argument("Simulator: fieldStep must be positive");
   }
   if (!(m_config.minTransverseMomentum >= 0.0)) {
     throw std::invalid_argument(
@@ -150,14 +151,12 @@ void Simulator::simulate(const std::vector<Particle>& particles,
 }
 
 Vector3 Simulator::transverseFieldKick(const Helix& helix, double s,
-                                       double charge,
-                                       const Vector3& momentum) const {
+                                       double charge, const Vector3& field,
+                                       const Vector3& momentum) {
   // dp/dl = q k (d x B): the segment's helix took B_z; the rest of the
-  // field, (B_x, B_y, 0) at the segment's middle, turns the momentum by
-  // q k l (d x B_perp) over its path l, without changing its magnitude.
-  const Vector3 middle = helix.position(0.5 * s);
-  Vector3 transverse = m_field.at(middle);
-  transverse.z() = 0.0;
+  // field, (B_x, B_y, 0), turns the momentum by q k l (d x B_perp) over
+  // its path l, without changing its magnitude.
+  const Vector3 transverse(field.x(), field.y(), 0.0);
   const double magnitude = momentum.norm();
   const Vector3 direction = momentum / magnitude;
   const Vector3 kicked = momentum + charge * constants::kPtPerTeslaMm *
@@ -192,7 +191,8 @@ std::uint32_t Simulator::simulateParticle(
   if (!m_config.turnBandEdges.empty() &&
       position.head<2>().norm() >= m_config.turnBandMinProductionRadius &&
       position.head<2>().dot(momentum.head<2>()) < 0.0) {
-    blindBand = radialBand(Helix(position, momentum, charge, m_bz).minRadius());
+    blindBand = radialBand(
+        Helix(position, momentum, charge, m_field.centralBz()).minRadius());
   }
   double energy = std::sqrt(p * p + mass * mass);
   double time = particle.time;
@@ -208,17 +208,19 @@ std::uint32_t Simulator::simulateParticle(
   unsigned crossings = 0;
   while (crossings < m_config.maxCrossings) {
     // A non-uniform field is taken as constant along a helix segment of at
-    // most fieldStep: B_z of the segment's middle (predicted with that of
-    // its start) bends the helix, the transverse field kicks at its end.
-    double bz = m_bz;
+    // most fieldStep: the field at the segment's middle (predicted with the
+    // B_z of its start), whose B_z bends the helix and whose transverse
+    // part kicks at the segment's end.
+    const bool uniform = m_field.isUniform();
+    Vector3 field(0.0, 0.0, m_field.centralBz());
     double sStep = kInf;
-    if (!m_uniformField) {
+    if (!uniform) {
       const double tanLambda = momentum.z() / momentum.head<2>().norm();
       sStep = m_config.fieldStep / std::sqrt(1.0 + tanLambda * tanLambda);
       const Helix start(position, momentum, charge, m_field.at(position).z());
-      bz = m_field.at(start.position(0.5 * sStep)).z();
+      field = m_field.at(start.position(0.5 * sStep));
     }
-    const Helix helix(position, momentum, charge, bz);
+    const Helix helix(position, momentum, charge, field.z());
     // Path limit: the envelope exit (cylinder or end plane) and the turns
     // left.
     double sLimit =
@@ -241,7 +243,8 @@ std::uint32_t Simulator::simulateParticle(
         helix.positionAndMomentum(sStep, position, momentumOut);
         time += helix.pathLength(sStep) / (p / energy * constants::c);
         turns += sStep * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
-        momentum = transverseFieldKick(helix, sStep, charge, momentumOut);
+        momentum =
+            transverseFieldKick(helix, sStep, charge, field, momentumOut);
         if (momentum.head<2>().squaredNorm() == 0.0) {
           break;  // turned exactly along z: no helix
         }
@@ -256,8 +259,8 @@ std::uint32_t Simulator::simulateParticle(
     afterFieldStep = false;
     Vector3 momentumIn;
     helix.positionAndMomentum(s, position, momentumIn);
-    if (!m_uniformField) {
-      momentumIn = transverseFieldKick(helix, s, charge, momentumIn);
+    if (!uniform) {
+      momentumIn = transverseFieldKick(helix, s, charge, field, momentumIn);
     }
     const double beta = p / energy;
     time += helix.pathLength(s) / (beta * constants::c);

@@ -100,6 +100,30 @@ TEST(DetectorReader, MinimalDetector) {
   EXPECT_DOUBLE_EQ(det.passives()[0].zMin, -500.0 * mm);
 }
 
+TEST(DetectorReader, SolenoidKeysSelectASolenoidField) {
+  EXPECT_TRUE(parseDetector(kMinimal, "test.toml").field().isUniform());
+  const Detector solenoid =
+      parseDetector(replace(kMinimal, "bz_T = 2.0\n",
+                            "bz_T = 2.0\nsolenoid_radius_mm = 2770.0\n"
+                            "solenoid_half_length_mm = 2930.0\n"),
+                    "test.toml");
+  EXPECT_FALSE(solenoid.field().isUniform());
+  EXPECT_DOUBLE_EQ(solenoid.bz(), 2.0);
+  EXPECT_DOUBLE_EQ(solenoid.field().config().solenoidRadius, 2770.0 * mm);
+  EXPECT_DOUBLE_EQ(solenoid.field().config().solenoidHalfLength, 2930.0 * mm);
+  // Half a solenoid names the missing key; a negative radius its own.
+  const std::string half = errorOf(replace(
+      kMinimal, "bz_T = 2.0\n", "bz_T = 2.0\nsolenoid_radius_mm = 2770.0\n"));
+  EXPECT_NE(half.find("'detector.solenoid_half_length_mm'"), std::string::npos)
+      << half;
+  const std::string negative =
+      errorOf(replace(kMinimal, "bz_T = 2.0\n",
+                      "bz_T = 2.0\nsolenoid_radius_mm = -1.0\n"
+                      "solenoid_half_length_mm = 2930.0\n"));
+  EXPECT_NE(negative.find("'detector.solenoid_radius_mm'"), std::string::npos)
+      << negative;
+}
+
 TEST(DetectorReader, SyntaxErrorNamesLine) {
   std::string msg = errorOf(replace(kMinimal, "bz_T = 2.0", "bz_T = = 2"));
   EXPECT_NE(msg.find("test.toml:3"), std::string::npos) << msg;

@@ -1,6 +1,6 @@
 // The tracker field (MagneticField): uniform, and the paraxial field of a
 // finite solenoid against its textbook on-axis formula, Maxwell's
-// equations and the detector-file keys that select it.
+// equations (the detector-file keys that select it: DetectorReaderTests).
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
@@ -10,9 +10,6 @@
 
 #include <cmath>
 #include <stdexcept>
-#include <string>
-
-#include "InputErrorOf.hpp"
 
 namespace conftrack {
 namespace {
@@ -87,53 +84,6 @@ TEST(MagneticField, RefusesImpossibleSettings) {
   EXPECT_THROW(MagneticField({2.0, -5.0, 100.0}), std::invalid_argument);
   EXPECT_THROW(MagneticField({2.0, 1000.0, 0.0}), std::invalid_argument);
   EXPECT_THROW(MagneticField({0.0, 1000.0, 100.0}), std::invalid_argument);
-}
-
-const std::string kDetector = R"([detector]
-name = "Mini"
-bz_T = 2.0
-SOLENOID
-envelope_r_mm = 1000.0
-envelope_z_mm = 1000.0
-
-[[subdetector]]
-name = "Barrel"
-kind = "barrel"
-
-  [[subdetector.layer]]
-  name = "B0"
-  r_mm = 50.0
-  half_z_mm = 200.0
-  x_over_x0 = 0.01
-  sigma_rphi_um = 5.0
-  sigma_z_um = 5.0
-)";
-
-std::string withSolenoid(const std::string& keys) {
-  std::string text = kDetector;
-  return text.replace(text.find("SOLENOID"), 8, keys);
-}
-
-TEST(MagneticField, DetectorFilesSelectASolenoid) {
-  const Detector uniform = parseDetector(withSolenoid(""), "test.toml");
-  EXPECT_TRUE(uniform.field().isUniform());
-  const Detector solenoid =
-      parseDetector(withSolenoid("solenoid_radius_mm = 2770.0\n"
-                                 "solenoid_half_length_mm = 2930.0"),
-                    "test.toml");
-  EXPECT_FALSE(solenoid.field().isUniform());
-  EXPECT_DOUBLE_EQ(solenoid.bz(), 2.0 * T);
-  EXPECT_DOUBLE_EQ(solenoid.field().config().solenoidRadius, 2770.0 * mm);
-  const std::string half = test::inputErrorOf([] {
-    parseDetector(withSolenoid("solenoid_radius_mm = 2770.0"), "test.toml");
-  });
-  EXPECT_NE(half.find("solenoid_half_length_mm"), std::string::npos) << half;
-  const std::string negative = test::inputErrorOf([] {
-    parseDetector(withSolenoid("solenoid_radius_mm = -1.0\n"
-                               "solenoid_half_length_mm = 2930.0"),
-                  "test.toml");
-  });
-  EXPECT_NE(negative.find("solenoid_radius_mm"), std::string::npos) << negative;
 }
 
 TEST(MagneticField, ShippedTrackmlDetectorHasTheFittedSolenoid) {

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 #include "IdealSimulatorConfig.hpp"
@@ -129,6 +130,13 @@ TEST(FieldSimulation, HitsFollowTheLorentzForceInASolenoidField) {
     EXPECT_GT(worstUniform, 5.0) << "the field must matter here";
   }
   EXPECT_GE(compared, 30);
+}
+
+TEST(FieldSimulation, RefusesANonPositiveFieldStep) {
+  const Detector detector = solenoidDetector();
+  Simulator::Config config = test::idealSimulatorConfig();
+  config.fieldStep = 0.0;
+  EXPECT_THROW(Simulator(detector, config), std::invalid_argument);
 }
 
 TEST(FieldSimulation, EveryLayerOfAFieldStepBoundaryKeepsItsHits) {

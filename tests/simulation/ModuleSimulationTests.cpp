@@ -69,8 +69,7 @@ std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
     modules.push_back(m);
   }
   return std::make_shared<const ModuleLayout>(
-      detector, modules,
-      std::vector<double>(detector.layers().size(), 0.001));
+      detector, modules, std::vector<double>(detector.layers().size(), 0.001));
 }
 
 Particle particle(std::uint64_t id, double pt, double phi, double eta,
@@ -127,8 +126,8 @@ TEST(ModuleSimulation, BelowThePtFloorAParticleEndsInItsFirstSensor) {
   Simulator::Config config = test::idealSimulatorConfig();
   // At the border of sensors 1 and 2 of an overlapping ring: two hits on
   // the first layer, one on the second.
-  const std::vector<Particle> particles = {
-      particle(1, 2.0, kPi / 16, -0.2), particle(2, 20.0, kPi / 16, -0.2)};
+  const std::vector<Particle> particles = {particle(1, 2.0, kPi / 16, -0.2),
+                                           particle(2, 20.0, kPi / 16, -0.2)};
   const auto hitsWith = [&](double floor) {
     config.minTransverseMomentum = floor;
     Event event;

@@ -29,9 +29,6 @@ class MagneticField {
     double solenoidHalfLength = 0.0;
   };
 
-  /// A uniform field of 1 T (placeholder for default-constructed
-  /// detectors; readers always set the field).
-  MagneticField() : MagneticField(Config{1.0, 0.0, 0.0}) {}
   /// Throws std::invalid_argument if centralBz < 0, the radius is
   /// negative, or a solenoid has a non-positive half-length or field.
   explicit MagneticField(const Config& config);
