@@ -373,7 +373,7 @@ TrackmlScore scoreEvent1001(const char* label,
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   const TrackmlScore score = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
-  // Measured 0.7649, fake rate 0.023, since the simulation follows the
+  // Measured 0.7652, fake rate 0.023, since the simulation follows the
   // real events' solenoid field, which weakens towards |z| = 3 m, while
   // the chain assumes a uniform 2 T (0.8074 and 0.011 in the uniform
   // field; docs/validation.md item 9: a field-aware finder is issue 15's).
@@ -393,15 +393,15 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001WithHlLhcLength) {
   // The same event with its interactions moved to sigma_z = 50 mm
   // (--luminous-region hllhc): the seeds' z windows follow the vertices
   // found by the vertex-z pre-pass (docs/algorithm.md 3.16), so the score
-  // stays near that of the Kaggle length (measured 0.7626 against 0.7649,
-  // fake rate 0.038 against 0.023, in the solenoid field; 0.7837 and 0.022
+  // stays near that of the Kaggle length (measured 0.7601 against 0.7652,
+  // fake rate 0.040 against 0.023, in the solenoid field; 0.7837 and 0.022
   // in a uniform one; 0.28 with the fixed window of +-20 mm about 0, before
   // the overlap hits). Guarded at 0.02 below the measured score; the fake
   // rate at the goal of issue 15 (5 %).
   const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
   ASSERT_NE(hllhc, nullptr);
   const TrackmlScore score = scoreEvent1001("sigma_z 50 mm", hllhc->config);
-  EXPECT_GE(score.score, 0.742);
+  EXPECT_GE(score.score, 0.740);
   EXPECT_LE(score.fakeRate, 0.05);
 }
 
