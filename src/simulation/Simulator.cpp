@@ -194,11 +194,21 @@ std::uint32_t Simulator::simulateParticle(
     blindBand = radialBand(
         Helix(position, momentum, charge, m_field.centralBz()).minRadius());
   }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   double energy = std::sqrt(p * p + mass * mass);
   double time = particle.time;
   double turns = 0.0;
+  // With Config::loopPathFromProduction the loop limit is a path length
+  // fixed at production: maxTurns circumferences of the helix of the
+  // production momentum in the field at the production point.
+  const double productionField = m_field.at(position).norm();
+  const double pathLimit =
+      m_config.loopPathFromProduction && charge != 0.0 && productionField > 0.0
+          ? m_config.maxTurns * 2.0 * std::numbers::pi * p /
+                (constants::kPtPerTeslaMm * std::abs(charge) * productionField)
+          : kInf;
+  double pathTravelled = 0.0;
   std::uint32_t nHits = 0;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
 
   unsigned fieldSteps = 0;
   // True while the helix starts at the end of a field step rather than at a
@@ -231,7 +241,11 @@ std::uint32_t Simulator::simulateParticle(
       const double zEnd = helix.tanLambda() > 0.0 ? m_envelopeZ : -m_envelopeZ;
       sLimit = std::min(sLimit, (zEnd - position.z()) / helix.tanLambda());
     }
-    if (helix.omega() != 0.0) {
+    if (m_config.loopPathFromProduction) {
+      sLimit = std::min(
+          sLimit, (pathLimit - pathTravelled) /
+                      std::sqrt(1.0 + helix.tanLambda() * helix.tanLambda()));
+    } else if (helix.omega() != 0.0) {
       sLimit = std::min(sLimit, (m_config.maxTurns - turns) * helix.period());
     }
     const SurfaceCrossing next =
@@ -243,6 +257,7 @@ std::uint32_t Simulator::simulateParticle(
         helix.positionAndMomentum(sStep, position, momentumOut);
         time += helix.pathLength(sStep) / (p / energy * constants::c);
         turns += sStep * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
+        pathTravelled += helix.pathLength(sStep);
         momentum =
             transverseFieldKick(helix, sStep, charge, field, momentumOut);
         if (momentum.head<2>().squaredNorm() == 0.0) {
@@ -265,6 +280,7 @@ std::uint32_t Simulator::simulateParticle(
     const double beta = p / energy;
     time += helix.pathLength(s) / (beta * constants::c);
     turns += s * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
+    pathTravelled += helix.pathLength(s);
 
     const NavigationSurface& surface = m_navigator.surfaces()[next.surface];
     Vector3 direction = momentumIn / p;

@@ -165,8 +165,10 @@ Simulator::Config trackmlSimulatorConfig() {
   Simulator::Config config;
   // ACTS loop protection (detail/LoopProtection.hpp, 2018): the
   // propagation of the TrackML simulation ends after a path of
-  // loopFraction = 0.5 times the helix circumference 2 pi p / (q B).
+  // loopFraction = 0.5 times the helix circumference 2 pi p / (q B), with
+  // p and B where the propagation starts.
   config.maxTurns = 0.5;
+  config.loopPathFromProduction = true;
   // Particles end in the material far more often in the real files than
   // silicon's interaction length gives: 8-16 % of the prompt particles
   // above 1 GeV keep at most 60 % of the usual hit count (by abs(eta) bin),

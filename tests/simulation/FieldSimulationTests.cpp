@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -162,6 +163,44 @@ TEST(FieldSimulation, EveryLayerOfAFieldStepBoundaryKeepsItsHits) {
     }
     EXPECT_EQ(disks.size(), 11u) << "vz " << vz;
   }
+}
+
+TEST(FieldSimulation, LoopPathFromProductionIsAFixedPathLength) {
+  // Half a turn of a 0.15 GeV track at eta 1.8 ends near z = 2.3 m if the
+  // path is fixed with the central field (ACTS's loop protection), but
+  // past z = 2.5 m if the turns are counted, because the field along the
+  // way falls to 0.7 of its central value.
+  const Detector detector = solenoidDetector();
+  Particle particle;
+  particle.id = 1;
+  particle.pdg = 211;
+  particle.charge = 1.0;
+  particle.vertex = Vector3(0.0, 0.0, 0.0);
+  const double pt = 0.15;
+  const double tanLambda = std::sinh(1.8);
+  particle.momentum = Vector3(pt, 0.0, pt * tanLambda);
+  const double path =
+      0.5 * 2.0 * std::numbers::pi * particle.momentum.norm() /
+      (constants::kPtPerTeslaMm * detector.field().at(particle.vertex).norm());
+  const double zEnd = path * tanLambda / std::sqrt(1.0 + tanLambda * tanLambda);
+  auto lastZ = [&](bool loopPathFromProduction) {
+    Simulator::Config config = test::idealSimulatorConfig();
+    config.maxTurns = 0.5;
+    config.loopPathFromProduction = loopPathFromProduction;
+    const Simulator simulator(detector, config);
+    Event event;
+    RandomEngine rng(3);
+    simulator.simulate({particle}, rng, event);
+    double last = 0.0;
+    for (const HitTruth& truth : event.truth) {
+      last = std::max(last, truth.position.z());
+    }
+    return last;
+  };
+  const double fixedPath = lastZ(true);
+  EXPECT_LE(fixedPath, zEnd + 1.0);
+  EXPECT_GT(fixedPath, zEnd - 250.0);  // the last disk before the end
+  EXPECT_GT(lastZ(false), zEnd + 100.0);
 }
 
 }  // namespace

@@ -95,6 +95,13 @@ class Simulator {
     /// 35.4k hits in 27 / 30 / 31 ms. The TrackML simulation stops at half
     /// a turn (TrackmlEvents.hpp).
     double maxTurns = 10.0;
+    /// Count maxTurns as the ACTS propagator's loop protection does: a
+    /// three-dimensional path of maxTurns circumferences 2 pi p / (q |B|),
+    /// with the momentum and the field at production, fixed then. It ends
+    /// a particle earlier than counting its turns where the field weakens
+    /// along its path (the TrackML solenoid's ends) and later where it
+    /// loses momentum. Used for the TrackML simulation (TrackmlEvents.hpp).
+    bool loopPathFromProduction = false;
     /// Smearing draws per hit before it is dropped (MaxTries of
     /// DDPlanarDigiProcessor).
     unsigned maxSmearAttempts = 10;
