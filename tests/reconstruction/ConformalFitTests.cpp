@@ -45,6 +45,27 @@ TEST(ConformalTransform, CoordinatesAndErrors) {
   EXPECT_NEAR(radial.dot(cov * radial), 0.0, 1e-25);
 }
 
+TEST(ConformalTransform, BendingFactorMovesTheHitToRadiusGR) {
+  // In a solenoid field a hit maps as if at radius g r on its azimuth
+  // (PromptBending): coordinates, conformal radius and errors scale by
+  // 1/g; the measured position stays.
+  Detector det = barrelDetector();
+  std::vector<Hit> hits{test::barrelHit(det, 2, 30.0, 40.0, 400.0, 1)};
+  const PromptBending bending(MagneticField({2.0, 2770.0, 2930.0}),
+                              det.envelopeR(), det.envelopeZ());
+  const double g = bending.factor(50.0, 400.0);
+  ASSERT_LT(g, 1.0);
+  const ConformalHits plain = makeConformalHits(hits, det);
+  const ConformalHits mapped = makeConformalHits(hits, det, &bending);
+  EXPECT_DOUBLE_EQ(mapped.u[0], plain.u[0] / g);
+  EXPECT_DOUBLE_EQ(mapped.v[0], plain.v[0] / g);
+  EXPECT_DOUBLE_EQ(mapped.rc[0], plain.rc[0] / g);
+  EXPECT_NEAR(mapped.covUU[0], plain.covUU[0] / (g * g),
+              1e-12 * plain.covUU[0]);
+  EXPECT_EQ(mapped.radius[0], plain.radius[0]);
+  EXPECT_EQ(mapped.phi[0], plain.phi[0]);
+}
+
 TEST(ConformalTransform, HitOnAxisIsRejected) {
   Detector det = barrelDetector();
   std::vector<Hit> hits{test::barrelHit(det, 2, 0.0, 0.0, 7.0, 1)};

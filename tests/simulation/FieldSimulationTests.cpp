@@ -16,6 +16,7 @@
 #include <string>
 
 #include "IdealSimulatorConfig.hpp"
+#include "LorentzIntegration.hpp"
 
 namespace conftrack {
 namespace {
@@ -56,37 +57,6 @@ kind = "endcap"
   return parseDetector(text, "solenoid.toml");
 }
 
-/// Position where the track reaches z = zTarget, by RK4 in 0.05 mm steps
-/// of path length of dp/dl = q k (d x B(x)), |p| fixed.
-Vector3 rungeKuttaAtZ(const MagneticField& field, Vector3 x, Vector3 p,
-                      double charge, double zTarget) {
-  const double h = 0.05;
-  const double magnitude = p.norm();
-  auto derivative = [&](const Vector3& position, const Vector3& momentum,
-                        Vector3& dx, Vector3& dp) {
-    const Vector3 direction = momentum / magnitude;
-    dx = direction;
-    dp =
-        charge * constants::kPtPerTeslaMm * direction.cross(field.at(position));
-  };
-  while (x.z() < zTarget) {
-    Vector3 k1x, k1p, k2x, k2p, k3x, k3p, k4x, k4p;
-    derivative(x, p, k1x, k1p);
-    derivative(x + 0.5 * h * k1x, p + 0.5 * h * k1p, k2x, k2p);
-    derivative(x + 0.5 * h * k2x, p + 0.5 * h * k2p, k3x, k3p);
-    derivative(x + h * k3x, p + h * k3p, k4x, k4p);
-    const Vector3 xNext = x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    const Vector3 pNext = p + h / 6.0 * (k1p + 2 * k2p + 2 * k3p + k4p);
-    if (xNext.z() >= zTarget) {
-      const double f = (zTarget - x.z()) / (xNext.z() - x.z());
-      return x + f * (xNext - x);
-    }
-    x = xNext;
-    p = pNext * (magnitude / pNext.norm());
-  }
-  return x;
-}
-
 TEST(FieldSimulation, HitsFollowTheLorentzForceInASolenoidField) {
   // Forward tracks of 0.5-2 GeV reach the disks out to 2.75 m, where the
   // field has fallen to 0.6 of its central value; the 50 mm field steps
@@ -119,12 +89,12 @@ TEST(FieldSimulation, HitsFollowTheLorentzForceInASolenoidField) {
       if (z < 240.0) {
         continue;
       }
-      const Vector3 expected =
-          rungeKuttaAtZ(detector.field(), particle.vertex, p, c.charge, z);
+      const Vector3 expected = test::rungeKuttaAtZ(
+          detector.field(), particle.vertex, p, c.charge, z);
       EXPECT_LT((truth.position - expected).norm(), 0.5)
           << "pt " << c.pt << " eta " << c.eta << " z " << z;
-      const Vector3 uniform = rungeKuttaAtZ(MagneticField({2.0, 0.0, 0.0}),
-                                            particle.vertex, p, c.charge, z);
+      const Vector3 uniform = test::rungeKuttaAtZ(
+          MagneticField({2.0, 0.0, 0.0}), particle.vertex, p, c.charge, z);
       worstUniform = std::max(worstUniform, (uniform - expected).norm());
       ++compared;
     }

@@ -31,7 +31,9 @@ Matrix2 ConformalHits::covariance(ConfIndex i) const {
 }
 
 ConformalHits makeConformalHits(std::span<const Hit> hits,
-                                const Detector& detector) {
+                                const Detector& detector,
+                                const PromptBending* bending) {
+  const bool warp = bending != nullptr && !bending->isUniform();
   const std::size_t n = hits.size();
   std::vector<double> radius(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -72,7 +74,9 @@ ConformalHits makeConformalHits(std::span<const Hit> hits,
     }
     const SensitiveLayer& l = detector.layers()[*layer];
     double r = radius[i];
-    double r2 = r * r;
+    // The conformal map of the hit moved to radius g r (PromptBending).
+    const double g = warp ? bending->factor(r, h.position.z()) : 1.0;
+    double r2 = r * r * g;
     ch.original.push_back(i);
     ch.id.push_back(h.id);
     ch.x.push_back(h.position.x());
@@ -81,7 +85,7 @@ ConformalHits makeConformalHits(std::span<const Hit> hits,
     ch.radius.push_back(r);
     ch.u.push_back(h.position.x() / r2);
     ch.v.push_back(h.position.y() / r2);
-    ch.rc.push_back(1.0 / r);
+    ch.rc.push_back(1.0 / (r * g));
     ch.phi.push_back(std::atan2(h.position.y(), h.position.x()));
     // u is r-phi on both barrels and disks; v is z (barrel) or radial.
     double sigmaT = h.sigmaU;

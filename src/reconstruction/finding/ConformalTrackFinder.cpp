@@ -36,6 +36,10 @@ ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
     throw std::invalid_argument("ConformalTrackFinder: invalid chain: " +
                                 p->describe());
   }
+  if (m_config.chain.fieldCorrection && !detector.field().isUniform()) {
+    m_bending = std::make_shared<const PromptBending>(
+        detector.field(), detector.envelopeR(), detector.envelopeZ());
+  }
 }
 
 namespace {
@@ -48,9 +52,11 @@ double msSince(Clock::time_point t0) {
 FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
   const auto tEvent = Clock::now();
   const FinderConfig& chain = m_config.chain;
-  ConformalHits conformal = makeConformalHits(hits, *m_detector);
+  ConformalHits conformal =
+      makeConformalHits(hits, *m_detector, m_bending.get());
   double bz = chain.legacyFourTesla ? 4.0 * units::T : m_detector->bz();
   detail::FinderState state(conformal, *m_detector, chain, bz);
+  state.bending = m_bending.get();
 
   FindingResult result;
   if (chain.vertexPrepass) {

@@ -185,6 +185,7 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
     cfg.scatteringAllowance =
         f.getBool("scattering_allowance", cfg.scatteringAllowance);
     cfg.overlapHits = f.getBool("overlap_hits", cfg.overlapHits);
+    cfg.fieldCorrection = f.getBool("field_correction", cfg.fieldCorrection);
     cfg.overlapMaxChi2 =
         quantity(f, "overlap_max_chi2", 1.0, cfg.overlapMaxChi2);
     cfg.overlapMaxArc =

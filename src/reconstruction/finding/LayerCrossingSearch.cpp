@@ -167,24 +167,44 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
       }
     }
   }
+  // In a non-uniform field the circle is the track's in the conformal map
+  // of makeConformalHits: it passes the azimuth of a crossing at radius
+  // g r, and the arc length of the crossing itself is that of its own
+  // position (as for the hits of the (s, z) fit).
+  const PromptBending* bending = m_state.bending;
   if (!l.isDisk()) {
-    // Circle (centre C, radius rho) with the cylinder's circle.
+    // Circle (centre C, radius rho) with the cylinder's circle (of radius
+    // g r in the map).
     double cx = arc.centreX;
     double cy = arc.centreY;
     double d = norm2(cx, cy);
     double rho = arc.radius;
-    double rl = l.r;
-    if (d < 1e-9 || rl > d + rho || rl < std::abs(d - rho)) {
-      return out;
-    }
-    double a = (rl * rl - rho * rho + d * d) / (2.0 * d);
-    double h = std::sqrt(std::max(0.0, rl * rl - a * a));
-    double ex = cx / d;
-    double ey = cy / d;
+    double ex = d > 0.0 ? cx / d : 1.0;
+    double ey = d > 0.0 ? cy / d : 0.0;
+    auto crossing = [&](double rl, int sign, double& px, double& py) {
+      if (d < 1e-9 || rl > d + rho || rl < std::abs(d - rho)) {
+        return false;
+      }
+      double a = (rl * rl - rho * rho + d * d) / (2.0 * d);
+      double h = std::sqrt(std::max(0.0, rl * rl - a * a));
+      px = a * ex - sign * h * ey;
+      py = a * ey + sign * h * ex;
+      return true;
+    };
     for (int sign : {1, -1}) {
-      double px = a * ex - sign * h * ey;
-      double py = a * ey + sign * h * ex;
+      double px = 0.0;
+      double py = 0.0;
+      if (!crossing(l.r, sign, px, py)) {
+        continue;
+      }
       double s = after(arc.arcLength(px, py, sLast));
+      if (bending != nullptr) {
+        const double g = bending->factor(l.r, sz.z0 + sz.tanLambda * s);
+        if (!crossing(l.r * g, sign, px, py)) {
+          continue;
+        }
+        s = after(arc.arcLength(px / g, py / g, s));
+      }
       if (s > sExit) {
         continue;
       }
@@ -208,6 +228,17 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
     }
     Vector2 p = arc.pointAt(s);
     double r = p.norm();
+    if (bending != nullptr) {
+      // The point of the circle whose own position (at radius r = |p| /
+      // g) has the arc length s.
+      double sMapped = s;
+      for (int iteration = 0; iteration < 3; ++iteration) {
+        const double g = bending->factor(r, l.z());
+        sMapped += s - arc.arcLength(p.x() / g, p.y() / g, sMapped);
+        p = arc.pointAt(sMapped);
+        r = p.norm() / bending->factor(p.norm(), l.z());
+      }
+    }
     if (r < l.rMin - kLayerMargin || r > l.rMax + kLayerMargin) {
       return out;
     }

@@ -7,6 +7,7 @@
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Types.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/geometry/PromptBending.hpp"
 
 #include <cstdint>
 #include <span>
@@ -34,7 +35,7 @@ struct ConformalHits {
   std::vector<double> x, y, z;     ///< global position [mm]
   std::vector<double> radius;      ///< R = sqrt(x^2 + y^2) [mm]
   std::vector<double> u, v;        ///< conformal coordinates [1/mm]
-  std::vector<double> rc;          ///< conformal radius 1/R [1/mm]
+  std::vector<double> rc;          ///< conformal radius |(u, v)| [1/mm]
   std::vector<double> phi;         ///< azimuth atan2(y, x) in (-pi, pi]
   std::vector<double> varT;        ///< tangential variance, conformal
   std::vector<double> varR;        ///< radial variance, conformal
@@ -63,7 +64,15 @@ struct ConformalHits {
 
 /// Builds the conformal representation. Throws InputError for a hit on the
 /// z axis or on a layer the detector does not have.
+///
+/// With `bending` (a non-uniform field), each hit's conformal coordinates
+/// and their errors are divided by its bending factor g(r, z): the hit
+/// moves to radius g r at its azimuth, where the circle of a track from
+/// the beam line in the central field passes (PromptBending), so that
+/// such tracks are straight lines in the conformal plane again. x, y, z,
+/// radius and phi stay the measured ones.
 ConformalHits makeConformalHits(std::span<const Hit> hits,
-                                const Detector& detector);
+                                const Detector& detector,
+                                const PromptBending* bending = nullptr);
 
 }  // namespace conftrack

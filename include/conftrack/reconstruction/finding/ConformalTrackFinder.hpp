@@ -7,9 +7,11 @@
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Track.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/geometry/PromptBending.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
 
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -59,6 +61,9 @@ class ConformalTrackFinder {
  private:
   const Detector* m_detector;
   Config m_config;
+  /// The field's bending factors (FinderConfig::fieldCorrection); null in
+  /// a uniform field or without the correction. Shared by copies.
+  std::shared_ptr<const PromptBending> m_bending;
 };
 
 }  // namespace conftrack

@@ -225,6 +225,13 @@ struct FinderConfig {
   /// track's momentum estimate) in its chi2 increments. A conftrack
   /// addition: upstream's conformal chi2 knows only the hit resolutions.
   bool scatteringAllowance = true;
+  /// In a non-uniform field (a solenoid's, Detector::field()), map each
+  /// hit to the conformal plane at the radius where a track from the beam
+  /// line in the central field would cross its azimuth (PromptBending), and
+  /// predict the extensions' layer crossings the same way, so that forward
+  /// tracks stay straight lines there (chain key field_correction). No
+  /// effect in a uniform field. A conftrack addition (issue 15).
+  bool fieldCorrection = true;
   /// After each step, tracks take the unused hits of the step's pool on
   /// other sensors of the layers they have hits on (overlapping sensors,
   /// detail/OverlapHits.hpp). A conftrack addition (issue 15): real layers

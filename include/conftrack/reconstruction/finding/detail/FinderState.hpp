@@ -49,6 +49,9 @@ struct FinderState {
   const FinderConfig& config;
   /// Field used in the pT estimate [T] (4 T with legacyFourTesla).
   double bzForPt;
+  /// The bending factors the hits were mapped with (makeConformalHits);
+  /// null in a uniform field or without FinderConfig::fieldCorrection.
+  const PromptBending* bending = nullptr;
   std::vector<std::uint8_t> used;
   std::vector<TrackCandidate> tracks;
   CloneIndex clones;
