@@ -386,7 +386,8 @@ std::string buildTrackmlDetectorToml(const std::vector<TrackmlModule>& modules,
     << "# The challenge's solenoid: its bending weakens towards |z| = 3 m;\n"
     << "# radius and half-length fitted to the real events' track curvature\n"
     << "# along z (scripts/field_profile.py, docs/validation.md item 9). The\n"
-    << "# simulation follows it; the reconstruction takes bz_T as uniform.\n"
+    << "# simulation follows it, and so do the finder (PromptBending) and\n"
+    << "# the fit.\n"
     << "solenoid_radius_mm = " << fmt(kTrackmlSolenoidRadius, 1) << "\n"
     << "solenoid_half_length_mm = " << fmt(kTrackmlSolenoidHalfLength, 1)
     << "\n"

@@ -55,6 +55,58 @@ double crossExtended(const Helix& helix, const NavigationSurface& surface,
 
 }  // namespace detail
 
+double KalmanFitter::bendingAt(const Vector3& position,
+                               const Vector3& direction) const {
+  if (!m_followField) {
+    return 1.0;
+  }
+  const Vector3 field = m_detector.field().at(position);
+  const double transverse =
+      std::sqrt(direction.x() * direction.x() + direction.y() * direction.y());
+  if (!(transverse > 0.0)) {
+    return field.z() / m_bz;
+  }
+  // The force across the transverse direction t: q (B_z - tanLambda B_T .
+  // t) per unit transverse path.
+  const double alongT =
+      (field.x() * direction.x() + field.y() * direction.y()) / transverse;
+  return (field.z() - direction.z() / transverse * alongT) / m_bz;
+}
+
+double KalmanFitter::bendingAt(const HelixState& state) const {
+  return m_followField ? bendingAt(state.pca(), state.direction()) : 1.0;
+}
+
+Helix KalmanFitter::helixIn(const HelixState& state, double bending,
+                            int direction) const {
+  if (bending == 1.0) {
+    return makeHelix(state, m_bz, direction);
+  }
+  // Curvature b Omega; the field b B0 keeps pT (and |p|) that of Omega.
+  HelixState bent = state;
+  bent.params[eOmega] *= bending;
+  return makeHelix(bent, m_bz * bending, direction);
+}
+
+double KalmanFitter::movePivotIn(const TrackVector& params, const Vector3& from,
+                                 const Vector3& to, double sExpected,
+                                 double bending, TrackVector& moved,
+                                 TrackJacobian* jacobian) const {
+  if (bending == 1.0) {
+    return movePivot(params, from, to, sExpected, moved, jacobian);
+  }
+  TrackVector bent = params;
+  bent[eOmega] *= bending;
+  const double s = movePivot(bent, from, to, sExpected, moved, jacobian);
+  moved[eOmega] /= bending;
+  if (jacobian != nullptr) {
+    // D^-1 J D with D = diag(1, 1, b, 1, 1).
+    jacobian->col(eOmega) *= bending;
+    jacobian->row(eOmega) /= bending;
+  }
+  return s;
+}
+
 FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
                                       int direction, Propagation& state) const {
   if (!(surface.thicknessX0 > 0.0) ||
@@ -142,10 +194,11 @@ FitStatus KalmanFitter::crossing(const HelixState& state,
   if (std::abs(offSurface) <= kOnSurface) {
     return FitStatus::eSuccess;
   }
-  const Helix forward = makeHelix(state, m_bz, +1);
+  const double bending = bendingAt(state);
+  const Helix forward = helixIn(state, bending, +1);
   const double ahead =
       crossExtended(forward, surface, 0.0, kOwnCrossingTolerance);
-  const double behind = crossExtended(makeHelix(state, m_bz, -1), surface, 0.0,
+  const double behind = crossExtended(helixIn(state, bending, -1), surface, 0.0,
                                       kOwnCrossingTolerance);
   double s = 0.0;
   if (ahead <= behind && ahead < kInf) {
@@ -156,8 +209,8 @@ FitStatus KalmanFitter::crossing(const HelixState& state,
     return FitStatus::ePropagationFailed;
   }
   moved.pivot = forward.position(s);
-  const double sMoved = movePivot(state.params, state.pivot, moved.pivot, s,
-                                  moved.params, &jacobian);
+  const double sMoved = movePivotIn(state.params, state.pivot, moved.pivot, s,
+                                    bending, moved.params, &jacobian);
   if (!std::isfinite(sMoved) || !moved.params.allFinite()) {
     return FitStatus::eNumericalProblem;
   }
@@ -202,23 +255,55 @@ FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
       return status;
     }
   }
-  Helix walk = makeHelix({state.pivot, state.params}, m_bz, direction);
   const NavigationSurface& goal = surfaces[target];
-  for (unsigned n = 0; n < m_config.maxCrossingsPerStep; ++n) {
+  double bending = bendingAt({state.pivot, state.params});
+  Helix walk = helixIn({state.pivot, state.params}, bending, direction);
+  // The next surface along `walk`: the goal or one crossed before it.
+  SurfaceCrossing next;
+  bool arrive = false;
+  double s = 0.0;
+  auto nextSurface = [&]() {
     const double sMax = std::min(walk.period(), kMaxArc);
     const double sGoal = crossExtended(walk, goal, kMinStep, sMax);
     if (!(sGoal < kInf)) {
+      return false;
+    }
+    next = m_navigator.nextCrossing(walk, kMinStep, sGoal);
+    arrive = !next.found() || next.surface == target;
+    s = arrive ? sGoal : next.s;
+    return true;
+  };
+  for (unsigned n = 0; n < m_config.maxCrossingsPerStep; ++n) {
+    if (!nextSurface()) {
       return FitStatus::ePropagationFailed;
     }
-    const SurfaceCrossing next =
-        m_navigator.nextCrossing(walk, kMinStep, sGoal);
-    const bool arrive = !next.found() || next.surface == target;
-    const double s = arrive ? sGoal : next.s;
+    if (m_followField) {
+      // The segment on the helix of the bending at its middle.
+      Vector3 middle;
+      Vector3 momentum;
+      walk.positionAndMomentum(0.5 * s, middle, momentum);
+      const double atMiddle =
+          bendingAt(middle, direction * momentum.normalized());
+      if (atMiddle != bending) {
+        bending = atMiddle;
+        walk = helixIn({state.pivot, state.params}, bending, direction);
+        // The same surface on the new helix (a full navigation only if it
+        // is no longer reached).
+        const double sSame =
+            crossExtended(walk, arrive ? goal : surfaces[next.surface],
+                          kMinStep, std::min(walk.period(), kMaxArc));
+        if (sSame < kInf) {
+          s = sSame;
+        } else if (!nextSurface()) {
+          return FitStatus::ePropagationFailed;
+        }
+      }
+    }
     const Vector3 position = walk.position(s);
     TrackVector moved;
     TrackJacobian jacobian;
-    const double sMoved = movePivot(state.params, state.pivot, position,
-                                    direction * s, moved, &jacobian);
+    const double sMoved = movePivotIn(state.params, state.pivot, position,
+                                      direction * s, bending, moved, &jacobian);
     if (!std::isfinite(sMoved) || !moved.allFinite()) {
       return FitStatus::eNumericalProblem;
     }
@@ -236,7 +321,8 @@ FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
     if (status != FitStatus::eSuccess) {
       return status;
     }
-    walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+    bending = bendingAt({state.pivot, state.params});
+    walk = helixIn({state.pivot, state.params}, bending, direction);
   }
   return FitStatus::ePropagationFailed;
 }
@@ -246,9 +332,15 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
   const Vector3 origin = Vector3::Zero();
   const auto& surfaces = m_navigator.surfaces();
   TrackVector atOrigin;
+  // One bending for the whole way in: that halfway between the innermost
+  // node and the beam line (the field changes little over it).
+  const double bending =
+      bendingAt(0.5 * HelixState{state.pivot, state.params}.pca(),
+                HelixState{state.pivot, state.params}.direction());
   // Transverse arc from the current PCA to the PCA to the z axis, within
   // half a turn (physics.md 3).
-  double s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+  double s =
+      movePivotIn(state.params, state.pivot, origin, 0.0, bending, atOrigin);
   if (!std::isfinite(s)) {
     return FitStatus::eNumericalProblem;
   }
@@ -257,7 +349,7 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
     if (status != FitStatus::eSuccess) {
       return status;
     }
-    s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+    s = movePivotIn(state.params, state.pivot, origin, 0.0, bending, atOrigin);
     const int direction = s < 0.0 ? -1 : 1;
     if (direction > 0) {
       // PCA after the innermost hit (not a prompt track): its material
@@ -266,9 +358,10 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
       if (status != FitStatus::eSuccess) {
         return status;
       }
-      s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+      s = movePivotIn(state.params, state.pivot, origin, 0.0, bending,
+                      atOrigin);
     }
-    Helix walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+    Helix walk = helixIn({state.pivot, state.params}, bending, direction);
     for (unsigned n = 0; n < m_config.maxCrossingsPerStep; ++n) {
       const double remaining = std::abs(s);
       if (!(remaining > kMinStep)) {
@@ -282,8 +375,9 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
       const Vector3 position = walk.position(next.s);
       TrackVector moved;
       TrackJacobian jacobian;
-      const double sMoved = movePivot(state.params, state.pivot, position,
-                                      direction * next.s, moved, &jacobian);
+      const double sMoved =
+          movePivotIn(state.params, state.pivot, position, direction * next.s,
+                      bending, moved, &jacobian);
       if (!std::isfinite(sMoved) || !moved.allFinite()) {
         return FitStatus::eNumericalProblem;
       }
@@ -294,15 +388,17 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
       if (status != FitStatus::eSuccess) {
         return status;
       }
-      s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin);
+      s = movePivotIn(state.params, state.pivot, origin, 0.0, bending,
+                      atOrigin);
       if (!(s * direction > 0.0)) {
         break;
       }
-      walk = makeHelix({state.pivot, state.params}, m_bz, direction);
+      walk = helixIn({state.pivot, state.params}, bending, direction);
     }
   }
   TrackJacobian jacobian;
-  s = movePivot(state.params, state.pivot, origin, 0.0, atOrigin, &jacobian);
+  s = movePivotIn(state.params, state.pivot, origin, 0.0, bending, atOrigin,
+                  &jacobian);
   if (!std::isfinite(s) || !atOrigin.allFinite()) {
     return FitStatus::eNumericalProblem;
   }
@@ -319,7 +415,8 @@ FitStatus KalmanFitter::planeCrossing(const HelixState& state,
   moved = state;
   jacobian.setIdentity();
   const Vector3& g = measurement.normal;
-  const Helix helix = makeHelix(state, m_bz, +1);
+  const double bending = bendingAt(state);
+  const Helix helix = helixIn(state, bending, +1);
   // From the PCA (s = 0), which is at or near the layer crossing: the
   // plane crossing nearest to it. s < 0 is behind the PCA (the Helix
   // formulae hold for both signs).
@@ -333,8 +430,8 @@ FitStatus KalmanFitter::planeCrossing(const HelixState& state,
     return FitStatus::eSuccess;
   }
   moved.pivot = helix.position(s);
-  const double sMoved = movePivot(state.params, state.pivot, moved.pivot, s,
-                                  moved.params, &jacobian);
+  const double sMoved = movePivotIn(state.params, state.pivot, moved.pivot, s,
+                                    bending, moved.params, &jacobian);
   if (!std::isfinite(sMoved) || !moved.params.allFinite()) {
     return FitStatus::eNumericalProblem;
   }

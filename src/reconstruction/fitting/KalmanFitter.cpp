@@ -77,6 +77,7 @@ KalmanFitter::KalmanFitter(const Detector& detector, const Config& config,
                            std::shared_ptr<const ModuleLayout> sensors)
     : m_config(config),
       m_bz(detector.bz()),
+      m_followField(config.followField && !detector.field().isUniform()),
       m_mass(requireMass(config.pdg)),
       m_electron(m_mass == constants::kElectronMass),
       m_detector(detector),

@@ -243,6 +243,15 @@ class KalmanFitter {
     /// false: on the layer's navigation surface (cylinder with u the arc
     /// r phi, or disk), the fit before sensor planes, kept for comparison.
     bool sensorPlanes = true;
+    /// In a non-uniform field (Detector::field(), a solenoid's), transport
+    /// each segment between two surfaces on the helix of the local bending
+    /// at its middle, b = (B_z - tanLambda B_T . t) / B0 (t the transverse
+    /// direction; the transverse field bends a track as much as B_z does),
+    /// with Omega the curvature in the central field B0 (q/pT): the fit's
+    /// model of the field's weakening towards the solenoid's ends. false:
+    /// the field is taken as uniform B0 (the fit before; for comparison).
+    /// No effect in a uniform field.
+    bool followField = true;
   };
 
   /// A fitter for `detector` (copied; no reference is kept). Throws
@@ -352,12 +361,28 @@ class KalmanFitter {
   /// crossing, ePropagationFailed (state unchanged) if there is none.
   FitStatus moveToMeasurement(Propagation& state,
                               const Measurement& measurement) const;
+  /// The local bending b of the field (Config::followField) at `position`
+  /// for a particle moving along `direction` (unit vector); 1 in a uniform
+  /// field or without followField.
+  double bendingAt(const Vector3& position, const Vector3& direction) const;
+  /// bendingAt the PCA of `state` along its momentum.
+  double bendingAt(const HelixState& state) const;
+  /// The helix of `state` in the field of bending b (makeHelix).
+  Helix helixIn(const HelixState& state, double bending, int direction) const;
+  /// movePivot along the helix of bending b: Omega is the central field's
+  /// curvature, the geometric one is b Omega.
+  double movePivotIn(const TrackVector& params, const Vector3& from,
+                     const Vector3& to, double sExpected, double bending,
+                     TrackVector& moved,
+                     TrackJacobian* jacobian = nullptr) const;
   /// Applies the material of surface `surface` crossed at the pivot.
   FitStatus applyMaterial(const NavigationSurface& surface, int direction,
                           Propagation& state) const;
 
   Config m_config;
   double m_bz;
+  /// Config::followField in a non-uniform field.
+  bool m_followField;
   double m_mass;
   bool m_electron;
   Detector m_detector;
