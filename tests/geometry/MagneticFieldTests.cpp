@@ -27,7 +27,9 @@ double onAxis(double z, double a, double half) {
   return 2.0 * T * ends(z) / ends(0.0);
 }
 
-const MagneticField kTrackmlLike({2.0 * T, 2770.0 * mm, 2930.0 * mm});
+/// A long solenoid (the first fit to the TrackML events, before the
+/// reconstruction followed the field).
+const MagneticField kLongSolenoid({2.0 * T, 2770.0 * mm, 2930.0 * mm});
 
 TEST(MagneticField, UniformIsAlongZEverywhere) {
   const MagneticField uniform({2.0 * T, 0.0, 0.0});
@@ -37,9 +39,9 @@ TEST(MagneticField, UniformIsAlongZEverywhere) {
 }
 
 TEST(MagneticField, SolenoidOnAxisMatchesTheFiniteSheetFormula) {
-  EXPECT_FALSE(kTrackmlLike.isUniform());
+  EXPECT_FALSE(kLongSolenoid.isUniform());
   for (const double z : {0.0, 600.0, 1500.0, 2500.0, 2930.0, 3500.0}) {
-    const Vector3 b = kTrackmlLike.at(Vector3(0.0, 0.0, z));
+    const Vector3 b = kLongSolenoid.at(Vector3(0.0, 0.0, z));
     EXPECT_NEAR(b.z(), onAxis(z, 2770.0, 2930.0), 1e-12) << z;
     EXPECT_EQ(b.x(), 0.0);
     EXPECT_EQ(b.y(), 0.0);
@@ -47,8 +49,8 @@ TEST(MagneticField, SolenoidOnAxisMatchesTheFiniteSheetFormula) {
 }
 
 TEST(MagneticField, SolenoidIsMirrorSymmetricAndDivergesOutwardBeyondZero) {
-  const Vector3 front = kTrackmlLike.at(Vector3(400.0, 300.0, 1800.0));
-  const Vector3 back = kTrackmlLike.at(Vector3(400.0, 300.0, -1800.0));
+  const Vector3 front = kLongSolenoid.at(Vector3(400.0, 300.0, 1800.0));
+  const Vector3 back = kLongSolenoid.at(Vector3(400.0, 300.0, -1800.0));
   EXPECT_NEAR(front.z(), back.z(), 1e-12);
   EXPECT_NEAR(front.x(), -back.x(), 1e-12);
   EXPECT_GT(front.x(), 0.0);  // field lines open up towards the end
@@ -63,10 +65,10 @@ TEST(MagneticField, SolenoidIsDivergenceFreeAndNearlyCurlFree) {
   for (const double r : {100.0, 500.0, 1000.0}) {
     for (const double z : {0.0, 1000.0, 2000.0, 2900.0}) {
       auto bz = [&](double rr, double zz) {
-        return kTrackmlLike.at(Vector3(rr, 0.0, zz)).z();
+        return kLongSolenoid.at(Vector3(rr, 0.0, zz)).z();
       };
       auto br = [&](double rr, double zz) {
-        return kTrackmlLike.at(Vector3(rr, 0.0, zz)).x();
+        return kLongSolenoid.at(Vector3(rr, 0.0, zz)).x();
       };
       const double curl = (br(r, z + h) - br(r, z - h)) / (2 * h) -
                           (bz(r + h, z) - bz(r - h, z)) / (2 * h);

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <vector>
 
 namespace conftrack {
@@ -107,16 +108,24 @@ TEST(FieldFit, ForwardMomentaAreUnbiasedInTheSolenoidField) {
         pt, follow.mean, follow.width, follow.outlierFraction, uniform.mean,
         uniform.width, uniform.outlierFraction);
     EXPECT_GE(follow.fitted, n * 95 / 100);
-    // What is left (measured +0.29 at 1 GeV, +0.52 at 5 GeV) is second
-    // order: the transverse field's small change of pT and tanLambda along
-    // the track, which the helix segments ignore (against -19 and -23
-    // for the uniform field).
-    EXPECT_LT(std::abs(follow.mean), 0.7) << pt;
+    // What is left (measured +0.33 at 1 GeV, +0.32 at 5 GeV: 0.3-0.6 %
+    // of Omega, with field steps of 100 or 40 mm alike) is of the size of
+    // the simulation's own error (hits within 0.5 mm of the integrated
+    // path, FieldSimulation); -15 and -17 for the uniform field, with
+    // 17 % and 12 % of the hits outliers.
+    EXPECT_LT(std::abs(follow.mean), 0.5) << pt;
     EXPECT_NEAR(follow.width, 1.0, 0.15) << pt;
     EXPECT_LT(follow.outlierFraction, 0.01) << pt;
     EXPECT_LT(uniform.mean, -3.0) << pt;
     EXPECT_GT(uniform.outlierFraction, 0.03) << pt;
   }
+}
+
+TEST(FieldFit, RefusesANonPositiveFieldStep) {
+  const Detector detector = loadDetector("trackml");
+  KalmanFitter::Config config;
+  config.fieldStep = 0.0;
+  EXPECT_THROW(KalmanFitter(detector, config), std::invalid_argument);
 }
 
 }  // namespace

@@ -22,7 +22,8 @@ namespace conftrack {
 namespace {
 
 /// Disks every 250 mm in z from 250 to 2750 mm and a barrel layer at
-/// r = 500 mm, no material, in the TrackML-like solenoid field.
+/// r = 500 mm, no material, in a solenoid field that falls to 0.6 of its
+/// central value at z = 2.75 m.
 Detector solenoidDetector() {
   std::string text = R"([detector]
 name = "Solenoid"

@@ -56,10 +56,11 @@ namespace conftrack {
 
 /// The solenoid of the TrackML field (MagneticField): radius and
 /// half-length [mm] fitted to the real events' track curvature along z,
-/// which falls to 0.90 of its central value at |z| = 1.2-1.5 m and 0.68 at
-/// 2.1-2.4 m (scripts/field_profile.py; docs/validation.md item 9).
-inline constexpr double kTrackmlSolenoidRadius = 2770.0;
-inline constexpr double kTrackmlSolenoidHalfLength = 2930.0;
+/// which falls to 0.87 of its central value at |z| = 1.2-1.5 m and 0.42 at
+/// 2.1-2.4 m, measured with a finder and fit that follow the field
+/// (scripts/field_profile.py; docs/validation.md item 9).
+inline constexpr double kTrackmlSolenoidRadius = 1430.0;
+inline constexpr double kTrackmlSolenoidHalfLength = 2650.0;
 
 /// One sensor of the TrackML detector file.
 struct TrackmlModule {

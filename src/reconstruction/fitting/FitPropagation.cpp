@@ -34,6 +34,9 @@ constexpr double kMaxPlaneShift = 200.0 * units::mm;
 /// quadratically).
 constexpr int kMaxNewtonIterations = 20;
 constexpr double kNewtonTolerance = 1e-9 * units::mm;
+/// A segment is split into field steps (Config::fieldStep) only where the
+/// bending at its end differs from that at its start by more than this.
+constexpr double kMaxBendingChange = 0.01;
 
 }  // namespace
 
@@ -105,6 +108,43 @@ double KalmanFitter::movePivotIn(const TrackVector& params, const Vector3& from,
     jacobian->row(eOmega) /= bending;
   }
   return s;
+}
+
+void KalmanFitter::transverseFieldKick(Propagation& state,
+                                       const Vector3& middle,
+                                       const Vector3& direction,
+                                       double transversePath) const {
+  const double transverse =
+      std::sqrt(direction.x() * direction.x() + direction.y() * direction.y());
+  if (!m_followField || !(transverse > 0.0)) {
+    return;
+  }
+  // dpT/dl_T = -q k tanLambda (B_T . n), n = z x t the left normal of the
+  // transverse direction t; with Omega = q k B0 / pT:
+  // dOmega/dl_T = Omega^2 tanLambda (B_T . n) / B0.
+  const Vector3 field = m_detector.field().at(middle);
+  const double acrossT =
+      (-field.x() * direction.y() + field.y() * direction.x()) / transverse;
+  const double tanLambda = direction.z() / transverse;
+  const double omega = state.params[eOmega];
+  const double change =
+      omega * omega * tanLambda * acrossT / m_bz * transversePath;
+  if (!(std::abs(change) < 0.5 * std::abs(omega))) {
+    return;  // a change this large is outside the first-order model
+  }
+  const double omegaNew = omega + change;
+  const double ratio = omegaNew / omega;
+  // |p| fixed: (1 + tanLambda'^2) = (1 + tanLambda^2) (Omega' / Omega)^2.
+  const double t = state.params[eTanLambda];
+  const double t2 = (1.0 + t * t) * ratio * ratio - 1.0;
+  state.params[eOmega] = omegaNew;
+  state.params[eTanLambda] = std::copysign(std::sqrt(std::max(t2, 0.0)), t);
+  // dOmega'/dOmega = 1 + 2 change / Omega (the rest of the Jacobian is
+  // second order).
+  const double derivative = 1.0 + 2.0 * change / omega;
+  state.cov.row(eOmega) *= derivative;
+  state.cov.col(eOmega) *= derivative;
+  state.jacobian.row(eOmega) *= derivative;
 }
 
 FitStatus KalmanFitter::applyMaterial(const NavigationSurface& surface,
@@ -277,25 +317,49 @@ FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
     if (!nextSurface()) {
       return FitStatus::ePropagationFailed;
     }
+    // In a changing field the segment ends after at most fieldStep of
+    // path (a step end, without material), on the helix of the bending at
+    // its middle.
+    bool stepEnd = false;
+    Vector3 middle;
+    Vector3 momentum;
     if (m_followField) {
-      // The segment on the helix of the bending at its middle.
-      Vector3 middle;
-      Vector3 momentum;
+      const double tanLambda = state.params[eTanLambda];
+      const double sStep =
+          m_config.fieldStep / std::sqrt(1.0 + tanLambda * tanLambda);
+      if (s > sStep) {
+        Vector3 end;
+        walk.positionAndMomentum(s, end, momentum);
+        if (std::abs(bendingAt(end, direction * momentum.normalized()) -
+                     bending) > kMaxBendingChange) {
+          s = sStep;
+          stepEnd = true;
+        }
+      }
       walk.positionAndMomentum(0.5 * s, middle, momentum);
       const double atMiddle =
           bendingAt(middle, direction * momentum.normalized());
       if (atMiddle != bending) {
         bending = atMiddle;
         walk = helixIn({state.pivot, state.params}, bending, direction);
-        // The same surface on the new helix (a full navigation only if it
-        // is no longer reached).
-        const double sSame =
-            crossExtended(walk, arrive ? goal : surfaces[next.surface],
-                          kMinStep, std::min(walk.period(), kMaxArc));
-        if (sSame < kInf) {
-          s = sSame;
-        } else if (!nextSurface()) {
-          return FitStatus::ePropagationFailed;
+        if (stepEnd) {
+          // A surface may now come before the step's end.
+          if (!nextSurface()) {
+            return FitStatus::ePropagationFailed;
+          }
+          stepEnd = s > sStep;
+          s = std::min(s, sStep);
+        } else {
+          // The same surface on the new helix (a full navigation only if
+          // it is no longer reached).
+          const double sSame =
+              crossExtended(walk, arrive ? goal : surfaces[next.surface],
+                            kMinStep, std::min(walk.period(), kMaxArc));
+          if (sSame < kInf) {
+            s = sSame;
+          } else if (!nextSurface()) {
+            return FitStatus::ePropagationFailed;
+          }
         }
       }
     }
@@ -311,15 +375,22 @@ FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
     state.cov = jacobian * state.cov * jacobian.transpose();
     state.jacobian = jacobian * state.jacobian;
     state.pivot = position;
-    if (arrive) {
-      // Against the motion the node's material is crossed before its hit;
-      // node states stay on the side the particle comes from.
-      return direction < 0 ? applyMaterial(goal, -1, state)
-                           : FitStatus::eSuccess;
+    if (m_followField) {
+      walk.positionAndMomentum(0.5 * s, middle, momentum);
+      transverseFieldKick(state, middle, direction * momentum.normalized(),
+                          direction * s);
     }
-    status = applyMaterial(surfaces[next.surface], direction, state);
-    if (status != FitStatus::eSuccess) {
-      return status;
+    if (!stepEnd) {
+      if (arrive) {
+        // Against the motion the node's material is crossed before its
+        // hit; node states stay on the side the particle comes from.
+        return direction < 0 ? applyMaterial(goal, -1, state)
+                             : FitStatus::eSuccess;
+      }
+      status = applyMaterial(surfaces[next.surface], direction, state);
+      if (status != FitStatus::eSuccess) {
+        return status;
+      }
     }
     bending = bendingAt({state.pivot, state.params});
     walk = helixIn({state.pivot, state.params}, bending, direction);

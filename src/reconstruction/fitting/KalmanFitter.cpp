@@ -104,6 +104,9 @@ KalmanFitter::KalmanFitter(const Detector& detector, const Config& config,
     throw std::invalid_argument(
         "KalmanFitter: minCosIncidence must be in (0, 1]");
   }
+  if (!(m_config.fieldStep > 0.0)) {
+    throw std::invalid_argument("KalmanFitter: fieldStep must be positive");
+  }
   if (m_config.maxCrossingsPerStep == 0) {
     throw std::invalid_argument(
         "KalmanFitter: maxCrossingsPerStep must be positive");

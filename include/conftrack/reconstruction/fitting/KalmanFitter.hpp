@@ -252,6 +252,9 @@ class KalmanFitter {
     /// the field is taken as uniform B0 (the fit before; for comparison).
     /// No effect in a uniform field.
     bool followField = true;
+    /// With followField, the longest path [mm] on one helix where the
+    /// field's bending changes by more than 1 % between two surfaces.
+    double fieldStep = 100.0 * units::mm;
   };
 
   /// A fitter for `detector` (copied; no reference is kept). Throws
@@ -375,6 +378,14 @@ class KalmanFitter {
                      const Vector3& to, double sExpected, double bending,
                      TrackVector& moved,
                      TrackJacobian* jacobian = nullptr) const;
+  /// The change of pT along a segment of transverse length
+  /// `transversePath` (> 0 along the motion) by the field across the
+  /// track's transverse direction (Config::followField), taken at the
+  /// segment's `middle` with the particle's `direction` there: Omega and
+  /// tanLambda change, |p| does not.
+  void transverseFieldKick(Propagation& state, const Vector3& middle,
+                           const Vector3& direction,
+                           double transversePath) const;
   /// Applies the material of surface `surface` crossed at the pivot.
   FitStatus applyMaterial(const NavigationSurface& surface, int direction,
                           Propagation& state) const;
