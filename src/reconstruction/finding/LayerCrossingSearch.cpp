@@ -232,11 +232,12 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
       // The point of the circle whose own position (at radius r = |p| /
       // g) has the arc length s.
       double sMapped = s;
+      double g = bending->factor(r, l.z());
       for (int iteration = 0; iteration < 3; ++iteration) {
-        const double g = bending->factor(r, l.z());
         sMapped += s - arc.arcLength(p.x() / g, p.y() / g, sMapped);
         p = arc.pointAt(sMapped);
-        r = p.norm() / bending->factor(p.norm(), l.z());
+        r = p.norm() / g;
+        g = bending->factor(r, l.z());
       }
     }
     if (r < l.rMin - kLayerMargin || r > l.rMax + kLayerMargin) {
