@@ -65,4 +65,13 @@ Vector3 MagneticField::at(const Vector3& position) const {
   return {radial * position.x(), radial * position.y(), bz};
 }
 
+double MagneticField::bendingComponent(const Vector3& field,
+                                       const Vector3& direction) {
+  const double transverse =
+      std::sqrt(direction.x() * direction.x() + direction.y() * direction.y());
+  const double alongT =
+      (field.x() * direction.x() + field.y() * direction.y()) / transverse;
+  return field.z() - direction.z() / transverse * alongT;
+}
+
 }  // namespace conftrack

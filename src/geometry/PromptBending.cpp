@@ -26,10 +26,13 @@ double PromptBending::integrate(const MagneticField& field, double r,
   // Near the beam line the path is a point: its bending is the local one.
   const double rPath = std::max(r, 1e-3);
   const double slope = z / rPath;
+  // The straight path from the origin at azimuth 0.
+  const Vector3 direction(1.0, 0.0, slope);
   auto weighted = [&](double rho) {
-    const Vector3 b = field.at(Vector3(rho, 0.0, slope * rho));
-    // At azimuth 0, B_r is the x component.
-    return (rPath - rho) * (b.z() - slope * b.x()) / b0;
+    return (rPath - rho) *
+           MagneticField::bendingComponent(field.at(rho * direction),
+                                           direction) /
+           b0;
   };
   const double h = rPath / kIntervals;
   double sum = weighted(0.0) + weighted(rPath);

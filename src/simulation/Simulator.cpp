@@ -201,13 +201,22 @@ std::uint32_t Simulator::simulateParticle(
   // With Config::loopPathFromProduction the loop limit is a path length
   // fixed at production: maxTurns circumferences of the helix of the
   // production momentum in the field at the production point.
-  const double productionField = m_field.at(position).norm();
-  const double pathLimit =
-      m_config.loopPathFromProduction && charge != 0.0 && productionField > 0.0
-          ? m_config.maxTurns * 2.0 * std::numbers::pi * p /
-                (constants::kPtPerTeslaMm * std::abs(charge) * productionField)
-          : kInf;
+  double pathLimit = kInf;
+  if (m_config.loopPathFromProduction && charge != 0.0) {
+    const double productionField = m_field.at(position).norm();
+    if (productionField > 0.0) {
+      pathLimit =
+          m_config.maxTurns * 2.0 * std::numbers::pi * p /
+          (constants::kPtPerTeslaMm * std::abs(charge) * productionField);
+    }
+  }
   double pathTravelled = 0.0;
+  // Time, turns and path along the first s of a helix segment.
+  auto travel = [&](const Helix& helix, double s) {
+    time += helix.pathLength(s) / (p / energy * constants::c);
+    turns += s * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
+    pathTravelled += helix.pathLength(s);
+  };
   std::uint32_t nHits = 0;
 
   unsigned fieldSteps = 0;
@@ -255,9 +264,7 @@ std::uint32_t Simulator::simulateParticle(
         // No surface on this segment: move to its end and go on.
         Vector3 momentumOut;
         helix.positionAndMomentum(sStep, position, momentumOut);
-        time += helix.pathLength(sStep) / (p / energy * constants::c);
-        turns += sStep * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
-        pathTravelled += helix.pathLength(sStep);
+        travel(helix, sStep);
         momentum =
             transverseFieldKick(helix, sStep, charge, field, momentumOut);
         if (momentum.head<2>().squaredNorm() == 0.0) {
@@ -278,9 +285,7 @@ std::uint32_t Simulator::simulateParticle(
       momentumIn = transverseFieldKick(helix, s, charge, field, momentumIn);
     }
     const double beta = p / energy;
-    time += helix.pathLength(s) / (beta * constants::c);
-    turns += s * std::abs(helix.omega()) / (2.0 * std::numbers::pi);
-    pathTravelled += helix.pathLength(s);
+    travel(helix, s);
 
     const NavigationSurface& surface = m_navigator.surfaces()[next.surface];
     Vector3 direction = momentumIn / p;

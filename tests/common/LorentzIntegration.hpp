@@ -9,7 +9,23 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
+#include <cmath>
+
 namespace conftrack::test {
+
+/// A charged track from the beam line into the forward disks, along +x in
+/// the transverse plane.
+struct ForwardTrack {
+  double charge;
+  double pt;
+  double eta;
+  Vector3 momentum() const { return {pt, 0.0, pt * std::sinh(eta)}; }
+};
+
+/// The field tests' tracks: 0.5-2 GeV, eta 1.5-2.5, both charges.
+inline constexpr std::array<ForwardTrack, 4> kForwardTracks{
+    {{1.0, 0.5, 1.8}, {-1.0, 1.0, 2.2}, {1.0, 2.0, 1.5}, {-1.0, 0.7, 2.5}}};
 
 /// Position where the track reaches z = zTarget (> x.z()), by RK4 in
 /// 0.05 mm steps of path length of dp/dl = q k (d x B(x)), |p| fixed.

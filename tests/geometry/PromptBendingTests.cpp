@@ -67,15 +67,9 @@ TEST(PromptBending, PutsForwardTracksOnTheCentralFieldsCircle) {
        {kLongSolenoid, MagneticField({2.0 * T, kTrackmlSolenoidRadius,
                                       kTrackmlSolenoidHalfLength})}) {
     const PromptBending bending(field, 1030.0, 3000.0);
-    struct Case {
-      double charge;
-      double pt;
-      double eta;
-    };
     int compared = 0;
-    for (const Case& c : {Case{1.0, 0.5, 1.6}, Case{-1.0, 1.0, 2.0},
-                          Case{1.0, 2.0, 1.5}, Case{-1.0, 0.7, 2.4}}) {
-      const Vector3 p(c.pt, 0.0, c.pt * std::sinh(c.eta));
+    for (const test::ForwardTrack& c : test::kForwardTracks) {
+      const Vector3 p = c.momentum();
       const double omega =
           c.charge * constants::kPtPerTeslaMm * field.centralBz() / c.pt;
       // Azimuth of the central field's circle from the origin along +x at

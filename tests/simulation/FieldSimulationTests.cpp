@@ -60,20 +60,14 @@ kind = "endcap"
 
 TEST(FieldSimulation, HitsFollowTheLorentzForceInASolenoidField) {
   // Forward tracks of 0.5-2 GeV reach the disks out to 2.75 m, where the
-  // field has fallen to 0.6 of its central value; the 50 mm field steps
+  // field has fallen to 0.6 of its central value; the 25 mm field steps
   // (B_z of the step's middle, transverse kick) put the hits within 0.5 mm
   // of the integrated path, against 5-100 mm off for a uniform field.
   const Detector detector = solenoidDetector();
   const Simulator simulator(detector, test::idealSimulatorConfig());
-  struct Case {
-    double charge;
-    double pt;
-    double eta;
-  };
   int compared = 0;
-  for (const Case& c : {Case{1.0, 0.5, 1.8}, Case{-1.0, 1.0, 2.2},
-                        Case{1.0, 2.0, 1.5}, Case{-1.0, 0.7, 2.5}}) {
-    const Vector3 p(c.pt, 0.0, c.pt * std::sinh(c.eta));
+  for (const test::ForwardTrack& c : test::kForwardTracks) {
+    const Vector3 p = c.momentum();
     Particle particle;
     particle.id = 1;
     particle.pdg = 211;

@@ -42,6 +42,14 @@ class MagneticField {
   bool isUniform() const { return m_config.solenoidRadius == 0.0; }
   /// The field vector at a point [T].
   Vector3 at(const Vector3& position) const;
+  /// The part of `field` [T] that bends the transverse motion of a
+  /// particle moving along `direction` (any length, not along z):
+  /// B_z - tanLambda (B_T . t), t the transverse direction. The force
+  /// across t is q k (B_z cos(lambda) - sin(lambda) B_T . t) per unit path,
+  /// so a transverse field bends a track moving outwards from a
+  /// solenoid's end as much as B_z does (PromptBending, KalmanFitter).
+  static double bendingComponent(const Vector3& field,
+                                 const Vector3& direction);
 
  private:
   /// g and its first three derivatives at z.

@@ -18,6 +18,25 @@ namespace {
 /// Margin around a layer's extent when predicting crossings [mm].
 constexpr double kLayerMargin = 10.0;
 
+/// Where the circle of `arc` meets the circle of `radius` about the origin,
+/// on the `sign` (+1 or -1) side of the line from the origin to its
+/// centre; false if the two do not meet.
+bool meetRadius(const ArcFrame& arc, double radius, int sign, double& x,
+                double& y) {
+  const double d = norm2(arc.centreX, arc.centreY);
+  const double rho = arc.radius;
+  if (d < 1e-9 || radius > d + rho || radius < std::abs(d - rho)) {
+    return false;
+  }
+  const double a = (radius * radius - rho * rho + d * d) / (2.0 * d);
+  const double h = std::sqrt(std::max(0.0, radius * radius - a * a));
+  const double ex = arc.centreX / d;
+  const double ey = arc.centreY / d;
+  x = a * ex - sign * h * ey;
+  y = a * ey + sign * h * ex;
+  return true;
+}
+
 }  // namespace
 
 bool LayerCrossingSearch::begin(const TrackCandidate& track,
@@ -153,17 +172,11 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
       }
       ro += kLayerMargin;
     }
-    const double d = norm2(arc.centreX, arc.centreY);
-    const double rho = arc.radius;
-    if (d > 1e-9 && ro < d + rho && ro > std::abs(d - rho)) {
-      const double a = (ro * ro - rho * rho + d * d) / (2.0 * d);
-      const double h = std::sqrt(std::max(0.0, ro * ro - a * a));
-      const double ex = arc.centreX / d;
-      const double ey = arc.centreY / d;
-      for (int sign : {1, -1}) {
-        sExit = std::min(sExit,
-                         after(arc.arcLength(a * ex - sign * h * ey,
-                                             a * ey + sign * h * ex, sLast)));
+    for (int sign : {1, -1}) {
+      double x = 0.0;
+      double y = 0.0;
+      if (meetRadius(arc, ro, sign, x, y)) {
+        sExit = std::min(sExit, after(arc.arcLength(x, y, sLast)));
       }
     }
   }
@@ -173,34 +186,17 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
   // position (as for the hits of the (s, z) fit).
   const PromptBending* bending = m_state.bending;
   if (!l.isDisk()) {
-    // Circle (centre C, radius rho) with the cylinder's circle (of radius
-    // g r in the map).
-    double cx = arc.centreX;
-    double cy = arc.centreY;
-    double d = norm2(cx, cy);
-    double rho = arc.radius;
-    double ex = d > 0.0 ? cx / d : 1.0;
-    double ey = d > 0.0 ? cy / d : 0.0;
-    auto crossing = [&](double rl, int sign, double& px, double& py) {
-      if (d < 1e-9 || rl > d + rho || rl < std::abs(d - rho)) {
-        return false;
-      }
-      double a = (rl * rl - rho * rho + d * d) / (2.0 * d);
-      double h = std::sqrt(std::max(0.0, rl * rl - a * a));
-      px = a * ex - sign * h * ey;
-      py = a * ey + sign * h * ex;
-      return true;
-    };
+    // The circle with the cylinder's (of radius g r in the map).
     for (int sign : {1, -1}) {
       double px = 0.0;
       double py = 0.0;
-      if (!crossing(l.r, sign, px, py)) {
+      if (!meetRadius(arc, l.r, sign, px, py)) {
         continue;
       }
       double s = after(arc.arcLength(px, py, sLast));
       if (bending != nullptr) {
         const double g = bending->factor(l.r, sz.z0 + sz.tanLambda * s);
-        if (!crossing(l.r * g, sign, px, py)) {
+        if (!meetRadius(arc, l.r * g, sign, px, py)) {
           continue;
         }
         s = after(arc.arcLength(px / g, py / g, s));

@@ -64,16 +64,10 @@ double KalmanFitter::bendingAt(const Vector3& position,
     return 1.0;
   }
   const Vector3 field = m_detector.field().at(position);
-  const double transverse =
-      std::sqrt(direction.x() * direction.x() + direction.y() * direction.y());
-  if (!(transverse > 0.0)) {
+  if (direction.x() == 0.0 && direction.y() == 0.0) {
     return field.z() / m_bz;
   }
-  // The force across the transverse direction t: q (B_z - tanLambda B_T .
-  // t) per unit transverse path.
-  const double alongT =
-      (field.x() * direction.x() + field.y() * direction.y()) / transverse;
-  return (field.z() - direction.z() / transverse * alongT) / m_bz;
+  return MagneticField::bendingComponent(field, direction) / m_bz;
 }
 
 double KalmanFitter::bendingAt(const HelixState& state) const {
@@ -405,9 +399,9 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
   TrackVector atOrigin;
   // One bending for the whole way in: that halfway between the innermost
   // node and the beam line (the field changes little over it).
+  const HelixState innermost{state.pivot, state.params};
   const double bending =
-      bendingAt(0.5 * HelixState{state.pivot, state.params}.pca(),
-                HelixState{state.pivot, state.params}.direction());
+      bendingAt(0.5 * innermost.pca(), innermost.direction());
   // Transverse arc from the current PCA to the PCA to the z axis, within
   // half a turn (physics.md 3).
   double s =
