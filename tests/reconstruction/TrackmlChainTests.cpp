@@ -17,6 +17,7 @@
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
 #include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/finding/HitPool.hpp"
 #include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/TrackmlEvents.hpp"
@@ -421,6 +422,72 @@ TEST(TrackmlChain, FieldCorrectionRecoversTheForwardHits) {
   const TrackmlScore without = scoreEvent1001(
       "sigma_z 5.5 mm, no field correction", std::nullopt, false);
   EXPECT_GE(with.score - without.score, 0.015);
+}
+
+TEST(TrackmlChain, HelixStepFollowsTheSensorsOfBeamPipeSecondaries) {
+  // The particles of event 1001 produced 10-40 mm from the beam line (most
+  // of them in the beam pipe at r = 19 mm; impact parameters up to 35 mm,
+  // which no prompt step builds), simulated on the real sensors without
+  // noise and found by a helix step over the whole tracker, seeded in the
+  // pixels. The step predicts the crossing of each layer's nominal
+  // surface; TrackML's sensors lie up to several mm from it, overlap, and
+  // below 0.5 GeV scattering bends the track's (s, z) slope layer by
+  // layer. Measured: TrackML efficiency 0.644, fake rate 0.051 (the finder
+  // alone, double 50 % matching); 0.253 and 0.353 when the residuals were
+  // taken at the nominal surface, the crossing of a hit's own layer beside
+  // it counted as a missed layer, z was predicted from one straight line
+  // through all hits and the second hit of an overlap was left off.
+  // Guarded at 0.55 / 0.10.
+  const fs::path modulesFile = kTrackmlData / "detectors.csv.gz";
+  const std::vector<TrackmlModule> modules =
+      parseTrackmlModules(hepmc::loadFile(modulesFile), modulesFile.string());
+  const Detector simDetector = buildTrackmlDetector(modules);
+  const auto sensors = std::make_shared<const ModuleLayout>(
+      buildTrackmlModuleLayout(modules, simDetector));
+  TrackmlEventSimulation::Config simConfig;
+  simConfig.noiseFraction = 0.0;
+  simConfig.minPt = 0.15;
+  simConfig.seed = 1;
+  const TrackmlEventSimulation sim(simDetector, sensors, simConfig);
+  std::vector<Particle> secondaries;
+  for (const Particle& p :
+       readKaggleParticles(kTrackmlData / "train_100_events_no_truth" /
+                           "event000001001-particles.csv.gz")) {
+    const double r = p.vertex.head<2>().norm();
+    if (r >= 10.0 && r < 40.0) {
+      secondaries.push_back(p);
+    }
+  }
+  ASSERT_GT(secondaries.size(), 500u);
+  const Event event = sim.simulate(1001, secondaries);
+
+  const Detector detector = loadDetector("trackml");
+  const FinderConfig chain = parseChain(
+      "[[step]]\nname = \"Helix\"\n"
+      "collections = [\"PixelBarrel\", \"PixelEndcap\", "
+      "\"ShortStripBarrel\", \"ShortStripEndcap\", \"LongStripBarrel\", "
+      "\"LongStripEndcap\"]\n"
+      "seed_collections = [\"PixelBarrel\", \"PixelEndcap\"]\n"
+      "actions = [\"helix\"]\nmax_cell_angle = 0.03\n"
+      "max_cell_angle_rz = 0.005\nchi2_cut = 9.0\nmin_hits = 6\n"
+      "max_distance = 0.015\nslope_z_range = 10.0\nhigh_pt_cut_GeV = 0.0\n"
+      "max_seed_length_mm = 200.0\nmin_pt_GeV = 0.15\nmax_d0_mm = 600.0\n"
+      "max_missed_layers = 1\n",
+      "helix.toml", detector);
+  const ConformalTrackFinder finder(detector, {chain});
+  const FindingResult found = finder.run(event.hits);
+  std::vector<std::vector<HitIndex>> tracks;
+  for (const FoundTrack& t : found.tracks) {
+    tracks.push_back(t.hits);
+  }
+  const TrackmlScore score = scoreTrackml(event, tracks);
+  std::printf(
+      "[ trackml 1001, %zu particles from r = 10-40 mm, helix step ] %zu "
+      "tracks: efficiency %.4f, fake rate %.4f, score %.4f\n",
+      secondaries.size(), tracks.size(), score.efficiency, score.fakeRate,
+      score.score);
+  EXPECT_GE(score.efficiency, 0.55);
+  EXPECT_LE(score.fakeRate, 0.10);
 }
 
 }  // namespace

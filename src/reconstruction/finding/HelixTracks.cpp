@@ -65,6 +65,11 @@ constexpr double kReachFactor = 4.0;
 /// at most this much further along the chord [mm] (double layers,
 /// overlapping barrel and disk edges).
 constexpr double kFirstLayerSlack = 20.0;
+/// At most this many hits (one per sensor) are taken at one layer
+/// crossing: TrackML's innermost pixel-disk rings overlap three deep.
+constexpr std::size_t kMaxHitsPerCrossing = 3;
+/// Alignment floor of the residual difference of two overlap hits [mm].
+constexpr double kOverlapFloor = 0.05;
 /// Smallest window half-width around a predicted crossing [mm].
 constexpr double kMinWindow = 0.5;
 
@@ -182,12 +187,40 @@ struct Path {
   double t = 0.0;
 };
 
+/// The track's z and slope dz/ds after its last hit, filtered hit by hit
+/// along s with the multiple scattering of each layer crossed (a Kalman
+/// filter in the (s, z) plane): unlike one straight line through all hits,
+/// it follows the slope changes that scattering makes at low momentum.
+struct SzState {
+  double z = 0.0;
+  double t = 0.0;
+  double varZ = 0.0;
+  double covZt = 0.0;
+  double varT = 0.0;
+
+  /// Predicted z a distance ds further along, and its variance.
+  double zAt(double ds) const { return z + t * ds; }
+  double varAt(double ds) const {
+    return varZ + 2.0 * ds * covZt + ds * ds * varT;
+  }
+};
+
 /// A seed: three hits, their circle, and the (s, z) kink in units of its
 /// expected spread.
 struct Triplet {
   Path path;
   Circle circle;
   double kink = 0.0;
+};
+
+/// A hit compatible with a predicted layer crossing: its chi2, arc length
+/// from the track's last hit, distance from the circle and z residual.
+struct LayerHit {
+  ConfIndex hit;
+  double chi2;
+  double arc;
+  double rPhi;
+  double dz;
 };
 
 /// A predicted crossing of a layer.
@@ -610,6 +643,45 @@ class HelixBuilder {
     }
   }
 
+  /// Filters the path's hits along s (SzState): starts at the first hit
+  /// with the slope of the straight-line fit, then at each further hit
+  /// propagates, adds the scattering of the layer just left to the slope's
+  /// variance and updates with the hit's z (on a disk its radial error,
+  /// moved along the track, enters as t^2 varRxy).
+  SzState filterSz(const Path& p, double pt) const {
+    SzState st;
+    const ConfIndex first = p.hits[0];
+    st.t = p.t;
+    st.z = m_hits.z[first];
+    st.varZ = m_hits.varZ[first] + p.t * p.t * m_hits.varRxy[first] + 1e-6;
+    st.varT = 1.0;  // the slope comes from the hits that follow
+    for (std::size_t k = 1; k < p.hits.size(); ++k) {
+      const ConfIndex h = p.hits[k];
+      const double ds = p.s[k] - p.s[k - 1];
+      const double secL2 = 1.0 + st.t * st.t;
+      const double ms = theta0(m_hits.layer[p.hits[k - 1]], pt, st.t) * secL2;
+      // Propagate: z += t ds.
+      st.z += st.t * ds;
+      st.varZ += 2.0 * ds * st.covZt + ds * ds * st.varT;
+      st.covZt += ds * st.varT;
+      st.varT += ms * ms;
+      // Update with the hit's z.
+      const double r = m_hits.varZ[h] + st.t * st.t * m_hits.varRxy[h] + 1e-6;
+      const double sVar = st.varZ + r;
+      const double kz = st.varZ / sVar;
+      const double kt = st.covZt / sVar;
+      const double res = m_hits.z[h] - st.z;
+      st.z += kz * res;
+      st.t += kt * res;
+      const double varZ = (1.0 - kz) * st.varZ;
+      const double covZt = (1.0 - kz) * st.covZt;
+      st.varT -= kt * st.covZt;
+      st.varZ = varZ;
+      st.covZt = covZt;
+    }
+    return st;
+  }
+
   /// Predicted crossings of the pool's layers after hit `from` (arc length
   /// sFrom on the line z = z0 + t s), within the outgoing half-turn,
   /// nearest first. `inside` is set for crossings at least kEdgeMargin
@@ -683,7 +755,9 @@ class HelixBuilder {
       if (x.ds >= p.s[2] - 1e-6) {
         break;
       }
-      if (x.inside && x.layer != m_hits.layer[p.hits[1]]) {
+      // The seed's own layers are crossed at their nominal surface, which
+      // can lie a few mm from the sensor that holds the hit.
+      if (x.inside && !onLayerOf(x.layer, p)) {
         return true;
       }
     }
@@ -711,7 +785,8 @@ class HelixBuilder {
         }
         fitSz(p);
       }
-      predict(last, p.s.back(), p.z0, p.t, c, crossings);
+      const SzState sz = filterSz(p, ptOf(c));
+      predict(last, p.s.back(), sz.z - sz.t * p.s.back(), sz.t, c, crossings);
       const double secL = norm2(1.0, p.t);
       const double ms0 = theta0(m_hits.layer[last], ptOf(c), p.t);
       // Lever arm of the fitted circle: the path's length.
@@ -727,45 +802,73 @@ class HelixBuilder {
         // fitted direction carries about as much again from the layers
         // before (factor 2 in the variances).
         const double ms = std::numbers::sqrt2 * ms0 * x.ds * secL;
-        const double msZ = ms * secL;
         const double ratio = x.ds / lever;
         const double extrap = sigmaLast * (1.0 + ratio * ratio);
-        const double extrapZ =
-            std::sqrt(m_hits.varZ[last] + 1e-4) * (1.0 + x.ds / lever);
+        // The filtered z's own error, and the scattering in the last layer
+        // (its slope's variance holds that layer's only once it is left).
+        const double msLast = ms0 * secL * secL * x.ds;
+        const double extrapZ = std::sqrt(sz.varAt(x.ds) + msLast * msLast);
         const SensitiveLayer& l = m_layers[x.layer];
         const double varPhi = l.sigmaU * l.sigmaU + ms * ms + extrap * extrap;
-        double varV = l.sigmaV * l.sigmaV + msZ * msZ + extrapZ * extrapZ;
+        double varV = l.sigmaV * l.sigmaV + extrapZ * extrapZ;
         if (l.isDisk()) {
           // On a disk the transverse errors of the prediction move the
           // crossing radially as much as in azimuth, and an error in the
           // slope moves it along the track.
           varV = l.sigmaV * l.sigmaV + ms * ms + extrap * extrap +
-                 (msZ * msZ + extrapZ * extrapZ) / std::max(p.t * p.t, 0.01);
+                 extrapZ * extrapZ / std::max(sz.t * sz.t, 0.01);
         }
         const double rCross = norm2(x.x, x.y);
+        // The crossing is that of the layer's nominal surface; its sensors
+        // lie up to overlapMaxGap from it along the normal, where the track
+        // is displaced along the layer by the gap over the cosine of its
+        // crossing angle. The window covers that; the residuals below are
+        // taken at the hit itself.
+        const double tx = -c.orientation * (x.y - c.cy) / c.rho;
+        const double ty = c.orientation * (x.x - c.cx) / c.rho;
+        const double radialT =
+            std::abs(tx * x.x + ty * x.y) / std::max(rCross, 1e-9);
+        const double alongT = std::sqrt(std::max(0.0, 1.0 - radialT * radialT));
+        const double normalT = l.isDisk() ? std::abs(sz.t) : radialT;
+        const double ds =
+            m_state.config.overlapMaxGap / std::max(normalT, 1e-3);
+        const double maxArc = m_state.config.overlapMaxArc;
+        const double offsetPhi = std::min(maxArc, ds * alongT);
+        const double offsetV =
+            std::min(maxArc, ds * (l.isDisk() ? radialT : std::abs(sz.t)));
         const double halfPhi =
-            std::max(kMinWindow, kWindowSigmas * std::sqrt(varPhi)) /
+            (std::max(kMinWindow, kWindowSigmas * std::sqrt(varPhi)) +
+             offsetPhi) /
             std::max(rCross, 1.0);
         const double halfV =
-            std::max(kMinWindow, kWindowSigmas * std::sqrt(varV));
+            std::max(kMinWindow, kWindowSigmas * std::sqrt(varV)) + offsetV;
         m_window.clear();
         m_pool.layerBox(x.layer, std::atan2(x.y, x.x), halfPhi, x.z - halfV,
                         x.z + halfV, rCross - halfV, rCross + halfV, m_window);
-        const double ux = -x.y / std::max(rCross, 1e-9);
-        const double uy = x.x / std::max(rCross, 1e-9);
+        m_layerHits.clear();
         for (ConfIndex h : m_window) {
           if (m_state.used[h] != 0 || onPath(h, p)) {
             continue;
           }
-          const double dx = m_hits.x[h] - x.x;
-          const double dy = m_hits.y[h] - x.y;
-          const double rPhi = dx * ux + dy * uy;
+          // Distance from the circle across the track, and z against the
+          // helix at the hit's own arc length.
+          const double rPhi =
+              norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho;
+          double arc =
+              c.arc(m_hits.x[last], m_hits.y[last], m_hits.x[h], m_hits.y[h]);
+          if (arc > std::numbers::pi * c.rho) {
+            arc -= 2.0 * std::numbers::pi * c.rho;  // just behind the last hit
+          }
+          const double dz = m_hits.z[h] - sz.zAt(arc);
+          // On a disk v is radial: a z residual dz is a shift dz / t along
+          // the track, radialT of it in radius.
           const double rV =
-              l.isDisk() ? m_hits.radius[h] - rCross : m_hits.z[h] - x.z;
+              l.isDisk() ? dz * radialT / std::max(std::abs(sz.t), 0.1) : dz;
           const double chi2 = rPhi * rPhi / varPhi + rV * rV / varV;
           if (chi2 > m_step.chi2Cut) {
             continue;
           }
+          m_layerHits.push_back({h, chi2, arc, rPhi, dz});
           if (chosen == kInvalidIndex || chi2 < chosenChi2 ||
               (chi2 == chosenChi2 && h < chosen)) {
             chosen = h;
@@ -773,22 +876,91 @@ class HelixBuilder {
           }
         }
         if (chosen != kInvalidIndex) {
+          addOverlapPartners(chosen, sz.t);
           break;
         }
-        if (x.inside && ++missed > m_step.maxMissedLayers) {
+        // A layer the track already has a hit on is crossed again at its
+        // nominal surface next to that hit: the second sensor of an overlap
+        // is optional (OverlapHits collects it), not a missed layer.
+        if (x.inside && !onLayerOf(x.layer, p) &&
+            ++missed > m_step.maxMissedLayers) {
           break;
         }
       }
       if (chosen == kInvalidIndex) {
         return;
       }
-      const double s = p.s.back() + c.arc(m_hits.x[last], m_hits.y[last],
-                                          m_hits.x[chosen], m_hits.y[chosen]);
-      p.hits.push_back(chosen);
-      p.s.push_back(s);
-      p.chi2 += chosenChi2;
+      // The chosen hit and its overlap partners, in the order of the
+      // track.
+      std::sort(m_taken.begin(), m_taken.end(),
+                [](const LayerHit& a, const LayerHit& b) {
+                  return a.arc != b.arc ? a.arc < b.arc : a.hit < b.hit;
+                });
+      const double sLast = p.s.back();
+      for (const LayerHit& lh : m_taken) {
+        p.hits.push_back(lh.hit);
+        p.s.push_back(sLast + lh.arc);
+        p.chi2 += lh.chi2;
+      }
       fitSz(p);
     }
+  }
+
+  /// Sets m_taken to the chosen hit of a layer crossing and, on other
+  /// sensors of the same layer, the compatible hits of the crossing's
+  /// window (m_layerHits), the best per sensor: a particle crossing the
+  /// overlap of two sensors leaves a hit on each. A partner is judged by
+  /// the difference of its residuals and the chosen hit's (the track's own
+  /// prediction error, far larger below a few GeV, cancels over the few
+  /// mm between them; OverlapHits does the same for conformal tracks).
+  void addOverlapPartners(ConfIndex chosen, double t) {
+    m_taken.clear();
+    const auto chosenIt =
+        std::find_if(m_layerHits.begin(), m_layerHits.end(),
+                     [&](const LayerHit& lh) { return lh.hit == chosen; });
+    m_taken.push_back(*chosenIt);
+    std::sort(m_layerHits.begin(), m_layerHits.end(),
+              [](const LayerHit& a, const LayerHit& b) {
+                return a.chi2 != b.chi2 ? a.chi2 < b.chi2 : a.hit < b.hit;
+              });
+    const double sigmaChosen = transverseSigma(chosen);
+    for (const LayerHit& lh : m_layerHits) {
+      if (m_taken.size() >= kMaxHitsPerCrossing) {
+        break;
+      }
+      if (m_hits.layer[lh.hit] != m_hits.layer[chosen] ||
+          std::any_of(m_taken.begin(), m_taken.end(), [&](const LayerHit& t) {
+            return m_hits.sameSensor(t.hit, lh.hit);
+          })) {
+        continue;
+      }
+      const double dPerp = lh.rPhi - chosenIt->rPhi;
+      const double varPerp = sigmaChosen * sigmaChosen +
+                             transverseSigma(lh.hit) * transverseSigma(lh.hit) +
+                             kOverlapFloor * kOverlapFloor;
+      const double dz = lh.dz - chosenIt->dz;
+      // On disks z is exact and the arc length carries the radial error.
+      const double varZ =
+          m_hits.varZ[chosen] + m_hits.varZ[lh.hit] +
+          t * t * (m_hits.varRxy[chosen] + m_hits.varRxy[lh.hit]) +
+          kOverlapFloor * kOverlapFloor;
+      if (dPerp * dPerp / varPerp + dz * dz / varZ <=
+          m_state.config.overlapMaxChi2) {
+        m_taken.push_back(lh);
+      }
+    }
+  }
+
+  /// A hit's transverse resolution [mm] (its conformal tangential error
+  /// scaled back).
+  double transverseSigma(ConfIndex h) const {
+    return std::sqrt(m_hits.varT[h]) * m_hits.radius[h] * m_hits.radius[h];
+  }
+
+  /// True if the path has a hit on `layer`.
+  bool onLayerOf(std::uint32_t layer, const Path& p) const {
+    return std::any_of(p.hits.begin(), p.hits.end(),
+                       [&](ConfIndex h) { return m_hits.layer[h] == layer; });
   }
 
   /// True if hit h is already on the path.
@@ -837,6 +1009,9 @@ class HelixBuilder {
   std::vector<ConfIndex> m_window;
   std::vector<Crossing> m_crossings;
   std::vector<Triplet> m_triplets;
+  /// The compatible hits of the current layer crossing, and those taken.
+  std::vector<LayerHit> m_layerHits;
+  std::vector<LayerHit> m_taken;
   std::vector<std::pair<double, std::uint32_t>> m_layerSteps;
   /// Per detector layer: the scattering angle at pT = minPt, normal
   /// incidence.
