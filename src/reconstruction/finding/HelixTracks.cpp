@@ -881,7 +881,8 @@ class HelixBuilder {
         }
         // A layer the track already has a hit on is crossed again at its
         // nominal surface next to that hit: the second sensor of an overlap
-        // is optional (OverlapHits collects it), not a missed layer.
+        // is optional (addOverlapPartners takes its hit with the first),
+        // not a missed layer.
         if (x.inside && !onLayerOf(x.layer, p) &&
             ++missed > m_step.maxMissedLayers) {
           break;
