@@ -83,8 +83,19 @@ std::vector<Particle> readKaggleParticles(const fs::path& file) {
 TEST(TrackmlChain, ShippedChainSettings) {
   const Detector detector = loadDetector("trackml");
   const FinderConfig c = readChain(resolveChainPath("trackml"), detector);
-  ASSERT_EQ(c.steps.size(), 6u);
+  ASSERT_EQ(c.steps.size(), 7u);
   EXPECT_TRUE(c.overlapHits);
+  // The displaced step last: real-space helices seeded in the pixels, cut
+  // against random helices through noise (d0, pT, no missed layer).
+  const FindingStep& helix = c.steps[6];
+  EXPECT_TRUE(helix.helix && !helix.build && !helix.extend);
+  EXPECT_EQ(helix.seedCollections.size(), 2u);
+  EXPECT_EQ(helix.collections.size(), 6u);
+  EXPECT_DOUBLE_EQ(helix.maxD0, 200.0);
+  EXPECT_DOUBLE_EQ(helix.minPt, 0.2);
+  EXPECT_DOUBLE_EQ(helix.maxSeedLength, 150.0);
+  EXPECT_EQ(helix.maxMissedLayers, 0u);
+  EXPECT_EQ(helix.minHits, 6u);
   // The low-momentum build (step 4) and its extension (step 5).
   EXPECT_TRUE(c.steps[4].build && c.steps[4].minHits == 6 &&
               c.steps[4].chi2Cut == 3000.0);
@@ -377,7 +388,10 @@ TrackmlScore scoreEvent1001(const char* label,
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   const TrackmlScore score = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
-  // Measured 0.7922, fake rate 0.009. The simulation follows the real
+  // Measured 0.8157, fake rate 0.016; 0.7922 and 0.009 before the chain
+  // had its helix step for displaced particles (chains/trackml.toml), which
+  // finds beam-pipe and pixel secondaries at the cost of some random
+  // helices through noise hits. The simulation follows the real
   // events' solenoid field, which weakens towards |z| = 3 m
   // (docs/validation.md item 9); the finder maps the hits for it and the
   // fit follows it (field_correction: 0.7547 and 0.025 without,
@@ -389,24 +403,25 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   // files); before the finder took those overlap hits
   // (detail/OverlapHits.hpp) and the fit measured them on their own
   // sensor planes it scored 0.5596 with a fake rate of 0.255. Guarded with
-  // a margin of 0.02 (fake rate 0.01).
-  EXPECT_GE(score.score, 0.772);
-  EXPECT_LE(score.fakeRate, 0.02);
+  // a margin of 0.02 (fake rate 0.014).
+  EXPECT_GE(score.score, 0.795);
+  EXPECT_LE(score.fakeRate, 0.03);
 }
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001WithHlLhcLength) {
   // The same event with its interactions moved to sigma_z = 50 mm
   // (--luminous-region hllhc): the seeds' z windows follow the vertices
   // found by the vertex-z pre-pass (docs/algorithm.md 3.16), so the score
-  // stays near that of the Kaggle length (measured 0.7840 against 0.7922,
-  // fake rate 0.024 against 0.009, in the solenoid field with the finder's
+  // stays near that of the Kaggle length (measured 0.8076 against 0.8157,
+  // fake rate 0.030 against 0.016; 0.7840 and 0.024 before the helix step;
+  // in the solenoid field with the finder's
   // field correction; 0.28 with the fixed window
   // of +-20 mm about 0, before the overlap hits). Guarded at 0.02 below the
   // measured score; the fake rate at the goal of issue 15 (5 %).
   const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
   ASSERT_NE(hllhc, nullptr);
   const TrackmlScore score = scoreEvent1001("sigma_z 50 mm", hllhc->config);
-  EXPECT_GE(score.score, 0.764);
+  EXPECT_GE(score.score, 0.787);
   EXPECT_LE(score.fakeRate, 0.05);
 }
 
@@ -416,8 +431,8 @@ TEST(TrackmlChain, FieldCorrectionRecoversTheForwardHits) {
   // from the beam line stay straight lines in the conformal plane and
   // predicts their layer crossings the same way (finder key
   // field_correction, PromptBending). Without it the strip extensions
-  // leave forward hits off and take wrong ones: measured 0.7547 without,
-  // 0.7922 with.
+  // leave forward hits off and take wrong ones: measured 0.7774 without,
+  // 0.8157 with (0.7547 and 0.7922 before the chain's helix step).
   const TrackmlScore with = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
   const TrackmlScore without = scoreEvent1001(
       "sigma_z 5.5 mm, no field correction", std::nullopt, false);
