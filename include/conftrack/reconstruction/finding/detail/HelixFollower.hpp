@@ -1,0 +1,114 @@
+#pragma once
+
+/// @file HelixFollower.hpp
+/// The following part of the helix step for displaced tracks
+/// (FindingStep::helix, docs/algorithm.md 3.8): a candidate, seeded as a
+/// triplet of hits (HelixTracks.cpp), is extended outwards layer crossing
+/// by layer crossing along the helix of its hits.
+
+#include "conftrack/reconstruction/finding/ConformalHits.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+#include "conftrack/reconstruction/finding/HitPool.hpp"
+#include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+#include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace conftrack::detail {
+
+/// Extends helix-step candidates over one step's hit pool. Reads the
+/// finder's state (which hits are used, the overlap settings, the field)
+/// and writes nothing but the paths it is given; not thread-safe (scratch
+/// buffers), one per step run.
+///
+/// At each predicted crossing of a pool layer (the helix of the circle
+/// fitted to all hits, z from the (s, z) filter), the compatible unused
+/// hit of lowest chi2 is taken with its overlap partners on other sensors
+/// of the layer. Residuals are taken at the hit, since a layer's sensors
+/// lie up to FinderConfig::overlapMaxGap from its nominal surface. The
+/// path ends at the first crossing past FindingStep::maxMissedLayers
+/// crossings without a hit (crossings of layers it already holds do not
+/// count).
+class HelixFollower {
+ public:
+  /// An extension looks at the pool's layers within four times the
+  /// step's maxSeedLength of its last hit's layer.
+  HelixFollower(const FinderState& state, const FindingStep& step,
+                const HitPool& pool);
+
+  /// Extends the path outwards hit by hit (see the class comment).
+  void follow(HelixPath& p);
+
+  /// True if the triplet's helix crosses another layer of the pool well
+  /// inside its extent between its first and last hit: a seed must not
+  /// skip a layer (the detector's layers are efficient, and a triplet
+  /// spread over distant layers is mostly a random combination).
+  bool skipsLayer(const HelixPath& p, const TransverseCircle& c);
+
+ private:
+  /// A hit compatible with a predicted layer crossing: its chi2, arc
+  /// length from the track's last hit, distance from the circle and z
+  /// residual.
+  struct LayerHit {
+    ConfIndex hit;
+    double chi2;
+    double arc;
+    double rPhi;
+    double dz;
+  };
+
+  /// A predicted crossing of a layer.
+  struct Crossing {
+    std::uint32_t layer;
+    double ds;  ///< arc length from the last hit
+    double x, y, z;
+    bool inside;  ///< well inside the layer's extent
+  };
+
+  /// Predicted crossings of the pool's layers after hit `from` (arc length
+  /// sFrom on the line z = z0 + t s), within the outgoing half-turn,
+  /// nearest first. `inside` is set for crossings at least kHelixEdgeMargin
+  /// inside the layer's extent (where a missing hit is a real miss).
+  void predict(ConfIndex from, double sFrom, double z0, double t,
+               const TransverseCircle& c, std::vector<Crossing>& out);
+
+  /// Sets m_taken to the chosen hit of a layer crossing and, on other
+  /// sensors of the same layer, the compatible hits of the crossing's
+  /// window (m_layerHits), the best per sensor: a particle crossing the
+  /// overlap of two sensors leaves a hit on each. A partner is judged by
+  /// the difference of its residuals and the chosen hit's (the track's own
+  /// prediction error, far larger below a few GeV, cancels over the few
+  /// mm between them; OverlapHits does the same for conformal tracks).
+  void addOverlapPartners(ConfIndex chosen, double t);
+
+  /// A hit's transverse resolution [mm] (its conformal tangential error
+  /// scaled back).
+  double transverseSigma(ConfIndex h) const;
+
+  /// True if the path has a hit on `layer`.
+  bool onLayerOf(std::uint32_t layer, const HelixPath& p) const;
+
+  /// True if hit h is already on the path.
+  static bool onPath(ConfIndex h, const HelixPath& p);
+
+  /// helixTheta0 for this step's pT floor.
+  double theta0(std::uint32_t layer, double pt, double t) const;
+  /// circlePt in the field the finder uses for pT.
+  double ptOf(const TransverseCircle& c) const;
+
+  const FinderState& m_state;
+  const ConformalHits& m_hits;
+  const std::vector<SensitiveLayer>& m_layers;
+  const FindingStep& m_step;
+  const HitPool& m_pool;
+  std::vector<ConfIndex> m_window;
+  std::vector<Crossing> m_crossings;
+  /// The compatible hits of the current layer crossing, and those taken.
+  std::vector<LayerHit> m_layerHits;
+  std::vector<LayerHit> m_taken;
+  /// Per detector layer: the pool's layers an extension looks at.
+  std::vector<std::vector<std::uint32_t>> m_reach;
+};
+
+}  // namespace conftrack::detail

@@ -1,0 +1,331 @@
+// The following part of the helix step (HelixFollower.hpp; the file
+// comment of HelixTracks.cpp describes the whole step).
+
+#include "conftrack/reconstruction/finding/detail/HelixFollower.hpp"
+
+#include "conftrack/geometry/Helix.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace conftrack::detail {
+
+namespace {
+
+/// Margin around a layer's extent when predicting crossings [mm].
+constexpr double kLayerMargin = 5.0;
+/// Search windows extend this many standard deviations around a
+/// prediction; the chi2 cut decides.
+constexpr double kWindowSigmas = 5.0;
+/// Crossings nearer than this to the last hit are that hit's own [mm].
+constexpr double kMinStep = 0.5;
+/// Extensions look for the next hit on layers up to this many times
+/// maxSeedLength away (seed hits are at most maxSeedLength apart).
+constexpr double kReachFactor = 4.0;
+/// At most this many hits (one per sensor) are taken at one layer
+/// crossing: TrackML's innermost pixel-disk rings overlap three deep.
+constexpr std::size_t kMaxHitsPerCrossing = 3;
+/// Alignment floor of the residual difference of two overlap hits [mm].
+constexpr double kOverlapFloor = 0.05;
+/// Smallest window half-width around a predicted crossing [mm].
+constexpr double kMinWindow = 0.5;
+
+}  // namespace
+
+HelixFollower::HelixFollower(const FinderState& state, const FindingStep& step,
+                             const HitPool& pool)
+    : m_state(state),
+      m_hits(state.hits),
+      m_layers(state.detector.layers()),
+      m_step(step),
+      m_pool(pool) {
+  m_reach.resize(m_layers.size());
+  const std::vector<std::uint32_t>& layers = m_pool.layers();
+  for (std::uint32_t a : layers) {
+    for (std::uint32_t b : layers) {
+      if (layerDistance(m_layers[a], m_layers[b]) <=
+          kReachFactor * step.maxSeedLength) {
+        m_reach[a].push_back(b);
+      }
+    }
+  }
+}
+
+void HelixFollower::follow(HelixPath& p) {
+  std::vector<Crossing> crossings;
+  while (true) {
+    const std::size_t n = p.hits.size();
+    const ConfIndex last = p.hits[n - 1];
+    TransverseCircle c;
+    if (!fitCircle(m_hits, p.hits, c)) {
+      return;
+    }
+    // Arc lengths along the current circle, so that the s-z fit and the
+    // prediction use one consistent helix.
+    if (n > 3) {
+      for (std::size_t k = 1; k < n; ++k) {
+        const ConfIndex h0 = p.hits[k - 1];
+        const ConfIndex h1 = p.hits[k];
+        p.s[k] = p.s[k - 1] +
+                 c.arc(m_hits.x[h0], m_hits.y[h0], m_hits.x[h1], m_hits.y[h1]);
+      }
+      fitPathSz(m_hits, p);
+    }
+    const SzState sz = filterPathSz(m_hits, p, m_layers, m_step.minPt, ptOf(c));
+    predict(last, p.s.back(), sz.z - sz.t * p.s.back(), sz.t, c, crossings);
+    const double secL = norm2(1.0, p.t);
+    const double ms0 = theta0(m_hits.layer[last], ptOf(c), p.t);
+    // Lever arm of the fitted circle: the path's length.
+    const double lever = std::max(p.s[n - 1], 1.0);
+    const double sigmaLast = std::sqrt(m_hits.varT[last]) *
+                             m_hits.radius[last] * m_hits.radius[last];
+    std::uint32_t missed = 0;
+    ConfIndex chosen = kInvalidIndex;
+    double chosenChi2 = 0.0;
+    for (const Crossing& x : crossings) {
+      // Scattering in the last layer turns the direction by theta0 / cos
+      // (lambda) in azimuth and theta0 / cos(lambda)^2 in dz/ds; the
+      // fitted direction carries about as much again from the layers
+      // before (factor 2 in the variances).
+      const double ms = std::numbers::sqrt2 * ms0 * x.ds * secL;
+      const double ratio = x.ds / lever;
+      const double extrap = sigmaLast * (1.0 + ratio * ratio);
+      // The filtered z's own error, and the scattering in the last layer
+      // (its slope's variance holds that layer's only once it is left).
+      const double msLast = ms0 * secL * secL * x.ds;
+      const double extrapZ = std::sqrt(sz.varAt(x.ds) + msLast * msLast);
+      const SensitiveLayer& l = m_layers[x.layer];
+      const double varPhi = l.sigmaU * l.sigmaU + ms * ms + extrap * extrap;
+      double varV = l.sigmaV * l.sigmaV + extrapZ * extrapZ;
+      if (l.isDisk()) {
+        // On a disk the transverse errors of the prediction move the
+        // crossing radially as much as in azimuth, and an error in the
+        // slope moves it along the track.
+        varV = l.sigmaV * l.sigmaV + ms * ms + extrap * extrap +
+               extrapZ * extrapZ / std::max(sz.t * sz.t, 0.01);
+      }
+      const double rCross = norm2(x.x, x.y);
+      // The crossing is that of the layer's nominal surface; its sensors
+      // lie up to overlapMaxGap from it along the normal, where the track
+      // is displaced along the layer by the gap over the cosine of its
+      // crossing angle. The window covers that; the residuals below are
+      // taken at the hit itself.
+      const double tx = -c.orientation * (x.y - c.cy) / c.rho;
+      const double ty = c.orientation * (x.x - c.cx) / c.rho;
+      const double radialT =
+          std::abs(tx * x.x + ty * x.y) / std::max(rCross, 1e-9);
+      const double alongT = std::sqrt(std::max(0.0, 1.0 - radialT * radialT));
+      const double normalT = l.isDisk() ? std::abs(sz.t) : radialT;
+      const double ds = m_state.config.overlapMaxGap / std::max(normalT, 1e-3);
+      const double maxArc = m_state.config.overlapMaxArc;
+      const double offsetPhi = std::min(maxArc, ds * alongT);
+      const double offsetV =
+          std::min(maxArc, ds * (l.isDisk() ? radialT : std::abs(sz.t)));
+      const double halfPhi =
+          (std::max(kMinWindow, kWindowSigmas * std::sqrt(varPhi)) +
+           offsetPhi) /
+          std::max(rCross, 1.0);
+      const double halfV =
+          std::max(kMinWindow, kWindowSigmas * std::sqrt(varV)) + offsetV;
+      m_window.clear();
+      m_pool.layerBox(x.layer, std::atan2(x.y, x.x), halfPhi, x.z - halfV,
+                      x.z + halfV, rCross - halfV, rCross + halfV, m_window);
+      m_layerHits.clear();
+      for (ConfIndex h : m_window) {
+        if (m_state.used[h] != 0 || onPath(h, p)) {
+          continue;
+        }
+        // Distance from the circle across the track, and z against the
+        // helix at the hit's own arc length.
+        const double rPhi =
+            norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho;
+        double arc =
+            c.arc(m_hits.x[last], m_hits.y[last], m_hits.x[h], m_hits.y[h]);
+        if (arc > std::numbers::pi * c.rho) {
+          arc -= 2.0 * std::numbers::pi * c.rho;  // just behind the last hit
+        }
+        const double dz = m_hits.z[h] - sz.zAt(arc);
+        // On a disk v is radial: a z residual dz is a shift dz / t along
+        // the track, radialT of it in radius.
+        const double rV =
+            l.isDisk() ? dz * radialT / std::max(std::abs(sz.t), 0.1) : dz;
+        const double chi2 = rPhi * rPhi / varPhi + rV * rV / varV;
+        if (chi2 > m_step.chi2Cut) {
+          continue;
+        }
+        m_layerHits.push_back({h, chi2, arc, rPhi, dz});
+        if (chosen == kInvalidIndex || chi2 < chosenChi2 ||
+            (chi2 == chosenChi2 && h < chosen)) {
+          chosen = h;
+          chosenChi2 = chi2;
+        }
+      }
+      if (chosen != kInvalidIndex) {
+        addOverlapPartners(chosen, sz.t);
+        break;
+      }
+      // A layer the track already has a hit on is crossed again at its
+      // nominal surface next to that hit: the second sensor of an overlap
+      // is optional (addOverlapPartners takes its hit with the first),
+      // not a missed layer.
+      if (x.inside && !onLayerOf(x.layer, p) &&
+          ++missed > m_step.maxMissedLayers) {
+        break;
+      }
+    }
+    if (chosen == kInvalidIndex) {
+      return;
+    }
+    // The chosen hit and its overlap partners, in the order of the
+    // track.
+    std::sort(m_taken.begin(), m_taken.end(),
+              [](const LayerHit& a, const LayerHit& b) {
+                return a.arc != b.arc ? a.arc < b.arc : a.hit < b.hit;
+              });
+    const double sLast = p.s.back();
+    for (const LayerHit& lh : m_taken) {
+      p.hits.push_back(lh.hit);
+      p.s.push_back(sLast + lh.arc);
+      p.chi2 += lh.chi2;
+    }
+    fitPathSz(m_hits, p);
+  }
+}
+
+bool HelixFollower::skipsLayer(const HelixPath& p, const TransverseCircle& c) {
+  predict(p.hits[0], 0.0, p.z0, p.t, c, m_crossings);
+  for (const Crossing& x : m_crossings) {
+    if (x.ds >= p.s[2] - 1e-6) {
+      break;
+    }
+    // The seed's own layers are crossed at their nominal surface, which
+    // can lie a few mm from the sensor that holds the hit.
+    if (x.inside && !onLayerOf(x.layer, p)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
+                            const TransverseCircle& c,
+                            std::vector<Crossing>& out) {
+  out.clear();
+  // The helix through the hit along the circle's tangent there (the
+  // crossings are geometry's, shared with the simulation and the fit).
+  const double rx = m_hits.x[from] - c.cx;
+  const double ry = m_hits.y[from] - c.cy;
+  const double rn = norm2(rx, ry);
+  if (!(rn > 0.0)) {
+    return;
+  }
+  const double pt = ptOf(c);
+  const Vector3 momentum(-c.orientation * ry / rn * pt,
+                         c.orientation * rx / rn * pt, t * pt);
+  // Counter-clockwise motion is negative curvature in a positive field.
+  const Helix helix(Vector3(m_hits.x[from], m_hits.y[from], z0 + t * sFrom),
+                    momentum, -c.orientation, std::abs(m_state.bzForPt));
+  const double halfTurn = std::numbers::pi * c.rho;
+  auto add = [&](std::uint32_t layer, double ds, bool disk) {
+    const SensitiveLayer& l = m_layers[layer];
+    const Vector3 x = helix.position(ds);
+    const double r = x.head<2>().norm();
+    const bool inside =
+        disk ? r > l.rMin + kHelixEdgeMargin && r < l.rMax - kHelixEdgeMargin
+             : x.z() > l.zMin + kHelixEdgeMargin &&
+                   x.z() < l.zMax - kHelixEdgeMargin;
+    out.push_back({layer, ds, x.x(), x.y(), x.z(), inside});
+  };
+  for (std::uint32_t layer : m_reach[m_hits.layer[from]]) {
+    const SensitiveLayer& l = m_layers[layer];
+    if (l.isDisk()) {
+      if (layer == m_hits.layer[from]) {
+        continue;
+      }
+      const double ds =
+          helix.nextDiskCrossing(l.z(), l.rMin - kLayerMargin,
+                                 l.rMax + kLayerMargin, kMinStep, halfTurn);
+      if (ds != Helix::kNoCrossing) {
+        add(layer, ds, true);
+      }
+      continue;
+    }
+    // A barrel layer may be crossed twice within the half-turn (out and
+    // back in, or its own layer again).
+    double after = kMinStep;
+    for (int k = 0; k < 2; ++k) {
+      const double ds = helix.nextCylinderCrossing(
+          l.r, l.zMin - kLayerMargin, l.zMax + kLayerMargin, after, halfTurn);
+      if (ds == Helix::kNoCrossing) {
+        break;
+      }
+      add(layer, ds, false);
+      after = ds;
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const Crossing& a, const Crossing& b) {
+    return a.ds != b.ds ? a.ds < b.ds : a.layer < b.layer;
+  });
+}
+
+void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
+  m_taken.clear();
+  const auto chosenIt =
+      std::find_if(m_layerHits.begin(), m_layerHits.end(),
+                   [&](const LayerHit& lh) { return lh.hit == chosen; });
+  m_taken.push_back(*chosenIt);
+  std::sort(m_layerHits.begin(), m_layerHits.end(),
+            [](const LayerHit& a, const LayerHit& b) {
+              return a.chi2 != b.chi2 ? a.chi2 < b.chi2 : a.hit < b.hit;
+            });
+  const double sigmaChosen = transverseSigma(chosen);
+  for (const LayerHit& lh : m_layerHits) {
+    if (m_taken.size() >= kMaxHitsPerCrossing) {
+      break;
+    }
+    if (m_hits.layer[lh.hit] != m_hits.layer[chosen] ||
+        std::any_of(m_taken.begin(), m_taken.end(), [&](const LayerHit& t) {
+          return m_hits.sameSensor(t.hit, lh.hit);
+        })) {
+      continue;
+    }
+    const double dPerp = lh.rPhi - chosenIt->rPhi;
+    const double varPerp = sigmaChosen * sigmaChosen +
+                           transverseSigma(lh.hit) * transverseSigma(lh.hit) +
+                           kOverlapFloor * kOverlapFloor;
+    const double dz = lh.dz - chosenIt->dz;
+    // On disks z is exact and the arc length carries the radial error.
+    const double varZ =
+        m_hits.varZ[chosen] + m_hits.varZ[lh.hit] +
+        t * t * (m_hits.varRxy[chosen] + m_hits.varRxy[lh.hit]) +
+        kOverlapFloor * kOverlapFloor;
+    if (dPerp * dPerp / varPerp + dz * dz / varZ <=
+        m_state.config.overlapMaxChi2) {
+      m_taken.push_back(lh);
+    }
+  }
+}
+
+double HelixFollower::transverseSigma(ConfIndex h) const {
+  return std::sqrt(m_hits.varT[h]) * m_hits.radius[h] * m_hits.radius[h];
+}
+
+bool HelixFollower::onLayerOf(std::uint32_t layer, const HelixPath& p) const {
+  return std::any_of(p.hits.begin(), p.hits.end(),
+                     [&](ConfIndex h) { return m_hits.layer[h] == layer; });
+}
+
+bool HelixFollower::onPath(ConfIndex h, const HelixPath& p) {
+  return std::find(p.hits.begin(), p.hits.end(), h) != p.hits.end();
+}
+
+double HelixFollower::theta0(std::uint32_t layer, double pt, double t) const {
+  return helixTheta0(m_layers[layer], m_step.minPt, pt, t);
+}
+
+double HelixFollower::ptOf(const TransverseCircle& c) const {
+  return circlePt(c, m_state.bzForPt);
+}
+
+}  // namespace conftrack::detail
