@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace conftrack::detail {
@@ -28,6 +29,8 @@ constexpr double kReachFactor = 4.0;
 constexpr std::size_t kMaxHitsPerCrossing = 3;
 /// Alignment floor of the residual difference of two overlap hits [mm].
 constexpr double kOverlapFloor = 0.05;
+/// Hits of a crossing tried with the look-ahead (the best by chi2).
+constexpr std::size_t kLookAheadCandidates = 3;
 /// Smallest window half-width around a predicted crossing [mm].
 constexpr double kMinWindow = 0.5;
 
@@ -53,130 +56,14 @@ HelixFollower::HelixFollower(const FinderState& state, const FindingStep& step,
 }
 
 void HelixFollower::follow(HelixPath& p) {
-  std::vector<Crossing> crossings;
   while (true) {
-    const std::size_t n = p.hits.size();
-    const ConfIndex last = p.hits[n - 1];
     TransverseCircle c;
-    if (!fitCircle(m_hits, p.hits, c)) {
+    SzState sz;
+    if (!nextCrossing(p, c, sz)) {
       return;
     }
-    // Arc lengths along the current circle, so that the s-z fit and the
-    // prediction use one consistent helix.
-    if (n > 3) {
-      for (std::size_t k = 1; k < n; ++k) {
-        const ConfIndex h0 = p.hits[k - 1];
-        const ConfIndex h1 = p.hits[k];
-        p.s[k] = p.s[k - 1] +
-                 c.arc(m_hits.x[h0], m_hits.y[h0], m_hits.x[h1], m_hits.y[h1]);
-      }
-      fitPathSz(m_hits, p);
-    }
-    const SzState sz = filterPathSz(m_hits, p, m_layers, m_step.minPt, ptOf(c));
-    predict(last, p.s.back(), sz.z - sz.t * p.s.back(), sz.t, c, crossings);
-    const double secL = norm2(1.0, p.t);
-    const double ms0 = theta0(m_hits.layer[last], ptOf(c), p.t);
-    // Lever arm of the fitted circle: the path's length.
-    const double lever = std::max(p.s[n - 1], 1.0);
-    const double sigmaLast = std::sqrt(m_hits.varT[last]) *
-                             m_hits.radius[last] * m_hits.radius[last];
-    std::uint32_t missed = 0;
-    ConfIndex chosen = kInvalidIndex;
-    double chosenChi2 = 0.0;
-    for (const Crossing& x : crossings) {
-      // Scattering in the last layer turns the direction by theta0 / cos
-      // (lambda) in azimuth and theta0 / cos(lambda)^2 in dz/ds; the
-      // fitted direction carries about as much again from the layers
-      // before (factor 2 in the variances).
-      const double ms = std::numbers::sqrt2 * ms0 * x.ds * secL;
-      const double ratio = x.ds / lever;
-      const double extrap = sigmaLast * (1.0 + ratio * ratio);
-      // The filtered z's own error, and the scattering in the last layer
-      // (its slope's variance holds that layer's only once it is left).
-      const double msLast = ms0 * secL * secL * x.ds;
-      const double extrapZ = std::sqrt(sz.varAt(x.ds) + msLast * msLast);
-      const SensitiveLayer& l = m_layers[x.layer];
-      const double varPhi = l.sigmaU * l.sigmaU + ms * ms + extrap * extrap;
-      double varV = l.sigmaV * l.sigmaV + extrapZ * extrapZ;
-      if (l.isDisk()) {
-        // On a disk the transverse errors of the prediction move the
-        // crossing radially as much as in azimuth, and an error in the
-        // slope moves it along the track.
-        varV = l.sigmaV * l.sigmaV + ms * ms + extrap * extrap +
-               extrapZ * extrapZ / std::max(sz.t * sz.t, 0.01);
-      }
-      const double rCross = norm2(x.x, x.y);
-      // The crossing is that of the layer's nominal surface; its sensors
-      // lie up to overlapMaxGap from it along the normal, where the track
-      // is displaced along the layer by the gap over the cosine of its
-      // crossing angle. The window covers that; the residuals below are
-      // taken at the hit itself.
-      const double tx = -c.orientation * (x.y - c.cy) / c.rho;
-      const double ty = c.orientation * (x.x - c.cx) / c.rho;
-      const double radialT =
-          std::abs(tx * x.x + ty * x.y) / std::max(rCross, 1e-9);
-      const double alongT = std::sqrt(std::max(0.0, 1.0 - radialT * radialT));
-      const double normalT = l.isDisk() ? std::abs(sz.t) : radialT;
-      const double ds = m_state.config.overlapMaxGap / std::max(normalT, 1e-3);
-      const double maxArc = m_state.config.overlapMaxArc;
-      const double offsetPhi = std::min(maxArc, ds * alongT);
-      const double offsetV =
-          std::min(maxArc, ds * (l.isDisk() ? radialT : std::abs(sz.t)));
-      const double halfPhi =
-          (std::max(kMinWindow, kWindowSigmas * std::sqrt(varPhi)) +
-           offsetPhi) /
-          std::max(rCross, 1.0);
-      const double halfV =
-          std::max(kMinWindow, kWindowSigmas * std::sqrt(varV)) + offsetV;
-      m_window.clear();
-      m_pool.layerBox(x.layer, std::atan2(x.y, x.x), halfPhi, x.z - halfV,
-                      x.z + halfV, rCross - halfV, rCross + halfV, m_window);
-      m_layerHits.clear();
-      for (ConfIndex h : m_window) {
-        if (m_state.used[h] != 0 || onPath(h, p)) {
-          continue;
-        }
-        // Distance from the circle across the track, and z against the
-        // helix at the hit's own arc length.
-        const double rPhi =
-            norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho;
-        double arc =
-            c.arc(m_hits.x[last], m_hits.y[last], m_hits.x[h], m_hits.y[h]);
-        if (arc > std::numbers::pi * c.rho) {
-          arc -= 2.0 * std::numbers::pi * c.rho;  // just behind the last hit
-        }
-        const double dz = m_hits.z[h] - sz.zAt(arc);
-        // On a disk v is radial: a z residual dz is a shift dz / t along
-        // the track, radialT of it in radius.
-        const double rV =
-            l.isDisk() ? dz * radialT / std::max(std::abs(sz.t), 0.1) : dz;
-        const double chi2 = rPhi * rPhi / varPhi + rV * rV / varV;
-        if (chi2 > m_step.chi2Cut) {
-          continue;
-        }
-        m_layerHits.push_back({h, chi2, arc, rPhi, dz});
-        if (chosen == kInvalidIndex || chi2 < chosenChi2 ||
-            (chi2 == chosenChi2 && h < chosen)) {
-          chosen = h;
-          chosenChi2 = chi2;
-        }
-      }
-      if (chosen != kInvalidIndex) {
-        addOverlapPartners(chosen, sz.t);
-        break;
-      }
-      // A layer the track already has a hit on is crossed again at its
-      // nominal surface next to that hit: the second sensor of an overlap
-      // is optional (addOverlapPartners takes its hit with the first),
-      // not a missed layer.
-      if (x.inside && !onLayerOf(x.layer, p) &&
-          ++missed > m_step.maxMissedLayers) {
-        break;
-      }
-    }
-    if (chosen == kInvalidIndex) {
-      return;
-    }
+    const ConfIndex chosen = choose(p);
+    addOverlapPartners(chosen, sz.t);
     // The chosen hit and its overlap partners, in the order of the
     // track.
     std::sort(m_taken.begin(), m_taken.end(),
@@ -191,6 +78,160 @@ void HelixFollower::follow(HelixPath& p) {
     }
     fitPathSz(m_hits, p);
   }
+}
+
+ConfIndex HelixFollower::choose(const HelixPath& p) {
+  std::sort(m_layerHits.begin(), m_layerHits.end(),
+            [](const LayerHit& a, const LayerHit& b) {
+              return a.chi2 != b.chi2 ? a.chi2 < b.chi2 : a.hit < b.hit;
+            });
+  if (m_layerHits.size() == 1) {
+    return m_layerHits.front().hit;
+  }
+  // Look one crossing ahead: with noise and left-over hits around it, the
+  // best hit of a crossing at low momentum (wide windows) is often not the
+  // track's, and a wrong hit turns the helix away from the next layer's.
+  // Each of the best few is tried and judged by its chi2 plus that of the
+  // best hit at the next crossing (the step's chi2 cut when there is none).
+  m_candidates = m_layerHits;
+  const std::size_t tried = std::min(m_candidates.size(), kLookAheadCandidates);
+  ConfIndex best = m_candidates.front().hit;
+  double bestScore = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < tried; ++k) {
+    const LayerHit& lh = m_candidates[k];
+    m_trial = p;
+    m_trial.hits.push_back(lh.hit);
+    m_trial.s.push_back(p.s.back() + lh.arc);
+    fitPathSz(m_hits, m_trial);
+    TransverseCircle c;
+    SzState sz;
+    double next = m_step.chi2Cut;
+    if (nextCrossing(m_trial, c, sz)) {
+      for (const LayerHit& n : m_layerHits) {
+        next = std::min(next, n.chi2);
+      }
+    }
+    const double score = lh.chi2 + next;
+    if (score < bestScore) {  // ties: the lower chi2 here (sorted)
+      bestScore = score;
+      best = lh.hit;
+    }
+  }
+  m_layerHits = m_candidates;
+  return best;
+}
+
+bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
+                                 SzState& sz) {
+  const std::size_t n = p.hits.size();
+  const ConfIndex last = p.hits[n - 1];
+  if (!fitCircle(m_hits, p.hits, c)) {
+    return false;
+  }
+  // Arc lengths along the current circle, so that the s-z fit and the
+  // prediction use one consistent helix.
+  if (n > 3) {
+    for (std::size_t k = 1; k < n; ++k) {
+      const ConfIndex h0 = p.hits[k - 1];
+      const ConfIndex h1 = p.hits[k];
+      p.s[k] = p.s[k - 1] +
+               c.arc(m_hits.x[h0], m_hits.y[h0], m_hits.x[h1], m_hits.y[h1]);
+    }
+    fitPathSz(m_hits, p);
+  }
+  sz = filterPathSz(m_hits, p, m_layers, m_step.minPt, ptOf(c));
+  predict(last, p.s.back(), sz.z - sz.t * p.s.back(), sz.t, c, m_crossings);
+  const double secL = norm2(1.0, p.t);
+  const double ms0 = theta0(m_hits.layer[last], ptOf(c), p.t);
+  // Lever arm of the fitted circle: the path's length.
+  const double lever = std::max(p.s[n - 1], 1.0);
+  const double sigmaLast =
+      std::sqrt(m_hits.varT[last]) * m_hits.radius[last] * m_hits.radius[last];
+  std::uint32_t missed = 0;
+  m_layerHits.clear();
+  for (const Crossing& x : m_crossings) {
+    // Scattering in the last layer turns the direction by theta0 / cos
+    // (lambda) in azimuth and theta0 / cos(lambda)^2 in dz/ds; the
+    // fitted direction carries about as much again from the layers
+    // before (factor 2 in the variances).
+    const double ms = std::numbers::sqrt2 * ms0 * x.ds * secL;
+    const double ratio = x.ds / lever;
+    const double extrap = sigmaLast * (1.0 + ratio * ratio);
+    // The filtered z's own error, and the scattering in the last layer
+    // (its slope's variance holds that layer's only once it is left).
+    const double msLast = ms0 * secL * secL * x.ds;
+    const double extrapZ = std::sqrt(sz.varAt(x.ds) + msLast * msLast);
+    const SensitiveLayer& l = m_layers[x.layer];
+    const double varPhi = l.sigmaU * l.sigmaU + ms * ms + extrap * extrap;
+    double varV = l.sigmaV * l.sigmaV + extrapZ * extrapZ;
+    if (l.isDisk()) {
+      // On a disk the transverse errors of the prediction move the
+      // crossing radially as much as in azimuth, and an error in the
+      // slope moves it along the track.
+      varV = l.sigmaV * l.sigmaV + ms * ms + extrap * extrap +
+             extrapZ * extrapZ / std::max(sz.t * sz.t, 0.01);
+    }
+    const double rCross = norm2(x.x, x.y);
+    // The crossing is that of the layer's nominal surface; its sensors
+    // lie up to overlapMaxGap from it along the normal, where the track
+    // is displaced along the layer by the gap over the cosine of its
+    // crossing angle. The window covers that; the residuals below are
+    // taken at the hit itself.
+    const double tx = -c.orientation * (x.y - c.cy) / c.rho;
+    const double ty = c.orientation * (x.x - c.cx) / c.rho;
+    const double radialT =
+        std::abs(tx * x.x + ty * x.y) / std::max(rCross, 1e-9);
+    const double alongT = std::sqrt(std::max(0.0, 1.0 - radialT * radialT));
+    const double normalT = l.isDisk() ? std::abs(sz.t) : radialT;
+    const double ds = m_state.config.overlapMaxGap / std::max(normalT, 1e-3);
+    const double maxArc = m_state.config.overlapMaxArc;
+    const double offsetPhi = std::min(maxArc, ds * alongT);
+    const double offsetV =
+        std::min(maxArc, ds * (l.isDisk() ? radialT : std::abs(sz.t)));
+    const double halfPhi =
+        (std::max(kMinWindow, kWindowSigmas * std::sqrt(varPhi)) + offsetPhi) /
+        std::max(rCross, 1.0);
+    const double halfV =
+        std::max(kMinWindow, kWindowSigmas * std::sqrt(varV)) + offsetV;
+    m_window.clear();
+    m_pool.layerBox(x.layer, std::atan2(x.y, x.x), halfPhi, x.z - halfV,
+                    x.z + halfV, rCross - halfV, rCross + halfV, m_window);
+    for (ConfIndex h : m_window) {
+      if (m_state.used[h] != 0 || onPath(h, p)) {
+        continue;
+      }
+      // Distance from the circle across the track, and z against the
+      // helix at the hit's own arc length.
+      const double rPhi = norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho;
+      double arc =
+          c.arc(m_hits.x[last], m_hits.y[last], m_hits.x[h], m_hits.y[h]);
+      if (arc > std::numbers::pi * c.rho) {
+        arc -= 2.0 * std::numbers::pi * c.rho;  // just behind the last hit
+      }
+      const double dz = m_hits.z[h] - sz.zAt(arc);
+      // On a disk v is radial: a z residual dz is a shift dz / t along
+      // the track, radialT of it in radius.
+      const double rV =
+          l.isDisk() ? dz * radialT / std::max(std::abs(sz.t), 0.1) : dz;
+      const double chi2 = rPhi * rPhi / varPhi + rV * rV / varV;
+      if (chi2 > m_step.chi2Cut) {
+        continue;
+      }
+      m_layerHits.push_back({h, chi2, arc, rPhi, dz});
+    }
+    if (!m_layerHits.empty()) {
+      return true;
+    }
+    // A layer the track already has a hit on is crossed again at its
+    // nominal surface next to that hit: the second sensor of an overlap
+    // is optional (addOverlapPartners takes its hit with the first),
+    // not a missed layer.
+    if (x.inside && !onLayerOf(x.layer, p) &&
+        ++missed > m_step.maxMissedLayers) {
+      return false;
+    }
+  }
+  return false;
 }
 
 bool HelixFollower::skipsLayer(const HelixPath& p, const TransverseCircle& c) {

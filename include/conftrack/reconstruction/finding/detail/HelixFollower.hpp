@@ -66,6 +66,17 @@ class HelixFollower {
     bool inside;  ///< well inside the layer's extent
   };
 
+  /// Fits the path's circle (c) and (s, z) filter (sz; the arc lengths of
+  /// p are recomputed on c) and fills m_layerHits with the compatible
+  /// unused hits of the first predicted crossing that has any; false if
+  /// the path ends first (no circle, the half-turn, or more than
+  /// maxMissedLayers crossings without a hit).
+  bool nextCrossing(HelixPath& p, TransverseCircle& c, SzState& sz);
+
+  /// The hit of m_layerHits to take (m_layerHits is left sorted by chi2):
+  /// the best by its chi2 plus that of the best hit one crossing further.
+  ConfIndex choose(const HelixPath& p);
+
   /// Predicted crossings of the pool's layers after hit `from` (arc length
   /// sFrom on the line z = z0 + t s), within the outgoing half-turn,
   /// nearest first. `inside` is set for crossings at least kHelixEdgeMargin
@@ -107,6 +118,9 @@ class HelixFollower {
   /// The compatible hits of the current layer crossing, and those taken.
   std::vector<LayerHit> m_layerHits;
   std::vector<LayerHit> m_taken;
+  /// Scratch of the look-ahead (choose).
+  std::vector<LayerHit> m_candidates;
+  HelixPath m_trial;
   /// Per detector layer: the pool's layers an extension looks at.
   std::vector<std::vector<std::uint32_t>> m_reach;
 };
