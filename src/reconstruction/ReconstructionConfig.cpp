@@ -27,6 +27,7 @@ TrackSelector::Config readSelection(const ConfigTable& t,
   c.minHits = count(t, "min_hits", c.minHits);
   c.cloneSharedHits = count(t, "clone_shared_hits", c.cloneSharedHits);
   c.minUniqueHits = count(t, "min_unique_hits", c.minUniqueHits);
+  c.dropOutliers = t.getBool("drop_outliers", c.dropOutliers);
   t.rejectUnknownKeys();
   if (std::optional<TrackSelector::Problem> p = TrackSelector::findProblem(c)) {
     t.fail(p->key, p->what);

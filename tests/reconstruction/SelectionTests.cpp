@@ -261,6 +261,28 @@ TEST(Selection, SharedHitResolutionCountsOutliersAndIsOrderFree) {
                                                          {1, 9, 10, 11}}));
 }
 
+TEST(Selection, DropOutliersLeavesTheMeasurements) {
+  const auto hits = makeHits();
+  // The clone treatment runs first (the first track wins with 5 used hits
+  // against 4; they share the used hits 1 and 3), then the outliers leave
+  // the kept track, and their flags with them.
+  const std::vector<Track> tracks = {
+      makeTrack({1, 2, 3, 4, 5, 6, 9}, 1.0, {0, 1, 0, 0, 1, 0, 0}),
+      makeTrack({1, 2, 3, 8}, 1.0)};
+  TrackSelector::Config config;
+  config.dropOutliers = true;
+  const auto dropped = TrackSelector(config).run(hits, tracks);
+  ASSERT_EQ(dropped.tracks.size(), 1u);
+  EXPECT_EQ(dropped.clones, 1u);
+  EXPECT_EQ(dropped.tracks[0].hits, (std::vector<HitIndex>{1, 3, 4, 6, 9}));
+  EXPECT_EQ(dropped.tracks[0].outlier, std::vector<std::uint8_t>(5, 0));
+  // Off by default: the hits stay, flagged.
+  const auto kept = TrackSelector().run(hits, tracks);
+  ASSERT_EQ(kept.tracks.size(), 1u);
+  EXPECT_EQ(kept.tracks[0].hits, (std::vector<HitIndex>{1, 2, 3, 4, 5, 6, 9}));
+  EXPECT_EQ(kept.tracks[0].numOutliers(), 2u);
+}
+
 TEST(Selection, ConfigIsValidated) {
   TrackSelector::Config zero;
   zero.minHits = 0;
@@ -275,19 +297,24 @@ TEST(Selection, ChainFileSelectionTable) {
   const Detector det = loadDetector("clicdet");
   const std::string steps = minimalStep("VertexBarrel");
   const Reconstruction::Config c = parseReconstructionConfig(
-      "[selection]\nmin_unique_hits = 6\nmin_hits = 4\n" + steps, "c.toml",
-      det);
+      "[selection]\nmin_unique_hits = 6\nmin_hits = 4\ndrop_outliers = true\n" +
+          steps,
+      "c.toml", det);
   EXPECT_EQ(c.selector.minUniqueHits, 6u);
+  EXPECT_TRUE(c.selector.dropOutliers);
   EXPECT_EQ(c.selector.minHits, 4u);
   EXPECT_EQ(c.selector.cloneSharedHits, 2u);
   EXPECT_EQ(c.chain.steps.size(), 1u);
   // Without the table: the defaults.
   EXPECT_EQ(parseReconstructionConfig(steps, "c.toml", det).selector.minHits,
             3u);
+  EXPECT_FALSE(
+      parseReconstructionConfig(steps, "c.toml", det).selector.dropOutliers);
   // Bad values and unknown keys: located at the key.
   for (const char* bad :
        {"[selection]\nmin_hits = 0\n", "[selection]\nmin_unique_hits = -1\n",
-        "[selection]\nmin_unique_hitz = 3\n"}) {
+        "[selection]\nmin_unique_hitz = 3\n",
+        "[selection]\ndrop_outliers = 1\n"}) {
     try {
       parseReconstructionConfig(std::string(bad) + steps, "c.toml", det);
       ADD_FAILURE() << bad;

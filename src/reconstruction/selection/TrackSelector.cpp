@@ -163,6 +163,23 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
     }
   }
   tracks.resize(kept);
+  if (m_config.dropOutliers) {
+    for (Track& t : tracks) {
+      if (t.outlier.size() != t.hits.size()) {
+        continue;  // unfitted (checked in usedIds for the candidates)
+      }
+      std::size_t n = 0;
+      for (std::size_t k = 0; k < t.hits.size(); ++k) {
+        if (t.outlier[k] == 0) {
+          t.hits[n] = t.hits[k];
+          t.outlier[n] = 0;
+          ++n;
+        }
+      }
+      t.hits.resize(n);
+      t.outlier.resize(n);
+    }
+  }
   result.tracks = std::move(tracks);
   return result;
 }

@@ -70,6 +70,12 @@ class TrackSelector {
     /// it (CLICdet, CLD: one hit per particle and layer, few shared hits);
     /// TrackML: 6.
     std::uint32_t minUniqueHits = 0;
+    /// Remove the hits the fit rejected as outliers from the kept tracks
+    /// (after the clone and shared-hit treatment, which count them): a
+    /// track is then the measurements its parameters rest on, as an ACTS
+    /// track's measurement states. Off by default (the outlier flags are
+    /// written with the hits).
+    bool dropOutliers = false;
   };
 
   /// A selector with the default Config.
