@@ -32,7 +32,7 @@ std::string with(const std::string& from, const std::string& to) {
 TEST(Chain, ShippedChainsMatchTheReference) {
   Detector clic = loadDetector("clicdet");
   FinderConfig c = readChain(resolveChainPath("clicdet"), clic);
-  ASSERT_EQ(c.steps.size(), 8u);
+  ASSERT_EQ(c.steps.size(), 9u);
   // algorithm.md 13.1 (CLICPerformance at HEAD).
   EXPECT_EQ(c.steps[0].name, "VXDBarrel");
   EXPECT_DOUBLE_EQ(c.steps[0].maxCellAngle, 0.005);
@@ -59,14 +59,20 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   EXPECT_DOUBLE_EQ(c.steps[7].minPt, 0.5);
   EXPECT_DOUBLE_EQ(c.steps[7].maxSeedLength, 400.0);
   EXPECT_EQ(c.steps[7].maxMissedLayers, 0u);
+  // ... and its ninth: low-momentum helix triplets from the vertex
+  // detector (chains/clicdet.toml gives the measurements).
+  EXPECT_EQ(c.steps[8].name, "LowPtHelix");
+  EXPECT_TRUE(c.steps[8].helix);
+  EXPECT_DOUBLE_EQ(c.steps[8].minPt, 0.1);
+  EXPECT_EQ(c.steps[8].seedCollections.size(), 2u);
   EXPECT_DOUBLE_EQ(c.thetaRange, 0.05);
 
   Detector cld = loadDetector("cld");
   FinderConfig d = readChain(resolveChainPath("cld"), cld);
-  // Eight steps since issue 15 item 5: CLDConfig's six plus the CLICdet
-  // chain's Displaced4 and DisplacedHelix (chains/cld.toml gives the
-  // measurements; CldChainTests checks their effect).
-  ASSERT_EQ(d.steps.size(), 8u);
+  // Nine steps since issue 15 item 5: CLDConfig's six plus the CLICdet
+  // chain's Displaced4, DisplacedHelix and LowPtHelix (chains/cld.toml
+  // gives the measurements; CldChainTests checks their effect).
+  ASSERT_EQ(d.steps.size(), 9u);
   // algorithm.md 13.2 (CLDConfig).
   EXPECT_DOUBLE_EQ(d.steps[0].maxDistance, 0.05);
   EXPECT_DOUBLE_EQ(d.steps[3].maxCellAngle, 0.1);

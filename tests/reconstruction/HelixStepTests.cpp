@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "ChainText.hpp"
 
@@ -134,7 +135,7 @@ TEST(HelixStep, FindsDisplacedLowMomentumMuons) {
   // With the shipped chain (these 200: 98.0 %; 90.5 % before the step
   // took residuals at the hit and overlap partners and filtered its
   // (s, z) slope, docs/algorithm.md 3.8) against the same
-  // chain without its helix step (about 0 % in this radius range: the
+  // chain without its helix steps (about 0 % in this radius range: the
   // impact parameter is comparable to the tracker radii, and the conformal
   // steps need a line or parabola in (u, v)). 200 muons: the binomial
   // error at 90 % is 2 %.
@@ -143,7 +144,7 @@ TEST(HelixStep, FindsDisplacedLowMomentumMuons) {
   const double with = displacedMuonEfficiency(chain, 200, fakes);
   const std::size_t fakesWith = fakes;
   ASSERT_TRUE(chain.steps.back().helix);
-  chain.steps.pop_back();
+  std::erase_if(chain.steps, [](const FindingStep& s) { return s.helix; });
   const double without = displacedMuonEfficiency(chain, 200, fakes);
   std::printf(
       "[ displaced 1 GeV muons, R 250-550 mm ] with helix step %.3f "

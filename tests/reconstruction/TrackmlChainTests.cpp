@@ -146,8 +146,13 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_FALSE(clicChain.vertexPrepass.has_value());
   for (const FindingStep& s : clicChain.steps) {
     const bool displaced = s.name.starts_with("Displaced");
-    EXPECT_EQ(s.seedCollections.size(),
-              s.name == "Displaced" || s.helix ? 4u : (displaced ? 2u : 0u));
+    // LowPtHelix seeds in the vertex barrel and endcap, 100 mm long.
+    const bool lowPtHelix = s.name == "LowPtHelix";
+    EXPECT_EQ(
+        s.seedCollections.size(),
+        lowPtHelix
+            ? 2u
+            : (s.name == "Displaced" || s.helix ? 4u : (displaced ? 2u : 0u)));
     EXPECT_EQ(s.chi2PtScale, 0.0);
     const bool vertexBuild = s.build && !displaced;
     EXPECT_EQ(s.maxSeedZ0,
@@ -157,8 +162,11 @@ TEST(TrackmlChain, ShippedChainSettings) {
     EXPECT_EQ(s.vertexWindow, std::numeric_limits<double>::infinity());
     EXPECT_EQ(
         s.maxSeedLength,
-        s.helix ? 400.0
-                : (displaced ? 800.0 : std::numeric_limits<double>::infinity()))
+        lowPtHelix
+            ? 100.0
+            : (s.helix ? 400.0
+                       : (displaced ? 800.0
+                                    : std::numeric_limits<double>::infinity())))
         << s.name;
   }
 }

@@ -38,7 +38,9 @@
 // number of turns on
 // (|k| <= kMaxTurns, k = 0 for the sense-reversed copy of a central
 // looper), is dropped: its hits are left alone rather than becoming a
-// second track of the particle.
+// second track of the particle. Helix-step tracks take part in this rule
+// (their circle is the free real-space one, their z line a straight
+// s-z fit) but not in the merging, whose refit is the conformal one.
 //
 // Compatible pairs are merged best merged fit first (total order: quality,
 // then track indices), each track at most once per round; rounds repeat
@@ -173,7 +175,7 @@ std::uint32_t TrackMerger::dropTurns() {
   std::vector<std::uint32_t> order;
   for (std::uint32_t t = 0; t < tracks.size(); ++t) {
     const TrackCandidate& c = tracks[t];
-    if (c.alive && !c.helix && c.hits.size() >= 3 && c.uv.valid && c.sz.valid &&
+    if (c.alive && c.hits.size() >= 3 && c.uv.valid && c.sz.valid &&
         c.uv.radius > 0.0) {
       order.push_back(t);
     }
