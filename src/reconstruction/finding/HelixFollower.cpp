@@ -76,7 +76,7 @@ void HelixFollower::follow(HelixPath& p) {
       p.s.push_back(sLast + lh.arc);
       p.chi2 += lh.chi2;
     }
-    fitPathSz(m_hits, p);
+    // nextCrossing refits the (s, z) line on the new circle's arc lengths.
   }
 }
 
@@ -102,7 +102,6 @@ ConfIndex HelixFollower::choose(const HelixPath& p) {
     m_trial = p;
     m_trial.hits.push_back(lh.hit);
     m_trial.s.push_back(p.s.back() + lh.arc);
-    fitPathSz(m_hits, m_trial);
     TransverseCircle c;
     SzState sz;
     double next = m_step.chi2Cut;
@@ -141,8 +140,8 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
   }
   sz = filterPathSz(m_hits, p, m_layers, m_step.minPt, ptOf(c));
   predict(last, p.s.back(), sz.z - sz.t * p.s.back(), sz.t, c, m_crossings);
-  const double secL = norm2(1.0, p.t);
-  const double ms0 = theta0(m_hits.layer[last], ptOf(c), p.t);
+  const double secL = norm2(1.0, sz.t);
+  const double ms0 = theta0(m_hits.layer[last], ptOf(c), sz.t);
   // Lever arm of the fitted circle: the path's length.
   const double lever = std::max(p.s[n - 1], 1.0);
   const double sigmaLast =
@@ -312,14 +311,10 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
 
 void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
   m_taken.clear();
-  const auto chosenIt =
-      std::find_if(m_layerHits.begin(), m_layerHits.end(),
-                   [&](const LayerHit& lh) { return lh.hit == chosen; });
-  m_taken.push_back(*chosenIt);
-  std::sort(m_layerHits.begin(), m_layerHits.end(),
-            [](const LayerHit& a, const LayerHit& b) {
-              return a.chi2 != b.chi2 ? a.chi2 < b.chi2 : a.hit < b.hit;
-            });
+  const LayerHit first =
+      *std::find_if(m_layerHits.begin(), m_layerHits.end(),
+                    [&](const LayerHit& lh) { return lh.hit == chosen; });
+  m_taken.push_back(first);
   const double sigmaChosen = transverseSigma(chosen);
   for (const LayerHit& lh : m_layerHits) {
     if (m_taken.size() >= kMaxHitsPerCrossing) {
@@ -331,11 +326,11 @@ void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
         })) {
       continue;
     }
-    const double dPerp = lh.rPhi - chosenIt->rPhi;
+    const double dPerp = lh.rPhi - first.rPhi;
     const double varPerp = sigmaChosen * sigmaChosen +
                            transverseSigma(lh.hit) * transverseSigma(lh.hit) +
                            kOverlapFloor * kOverlapFloor;
-    const double dz = lh.dz - chosenIt->dz;
+    const double dz = lh.dz - first.dz;
     // On disks z is exact and the arc length carries the radial error.
     const double varZ =
         m_hits.varZ[chosen] + m_hits.varZ[lh.hit] +

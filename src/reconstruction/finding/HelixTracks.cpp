@@ -81,7 +81,7 @@ class HelixBuilder {
         m_follower(state, step, pool) {
     m_maxTheta0.resize(m_layers.size());
     for (std::uint32_t a : m_pool.layers()) {
-      m_maxTheta0[a] = theta0(a, step.minPt, 0.0);
+      m_maxTheta0[a] = m_follower.theta0(a, step.minPt, 0.0);
     }
     // The pool's layers within maxSeedLength of each layer: the only ones
     // a seed looks at.
@@ -333,15 +333,6 @@ class HelixBuilder {
     return var / (ds * ds);
   }
 
-  /// helixTheta0 for this step's pT floor.
-  double theta0(std::uint32_t layer, double pt, double t) const {
-    return helixTheta0(m_layers[layer], m_step.minPt, pt, t);
-  }
-
-  double ptOf(const TransverseCircle& c) const {
-    return circlePt(c, m_state.bzForPt);
-  }
-
   /// False if the triplet's curvature exceeds that of pT = minPt by more
   /// than three standard deviations of its measurement (hit resolution and
   /// scattering in the middle layer): the circle through three hits a few
@@ -393,7 +384,8 @@ class HelixBuilder {
         const double t23 = (m_hits.z[h3] - m_hits.z[h2]) / s23;
         const double dTheta = std::abs(std::atan(t23) - std::atan(t12));
         const double cos2 = 1.0 / (1.0 + t12 * t12);
-        const double ms = theta0(m_hits.layer[h2], ptOf(c), t12);
+        const double ms =
+            m_follower.theta0(m_hits.layer[h2], m_follower.ptOf(c), t12);
         const double var = ms * ms + cos2 * cos2 *
                                          (slopeVariance(h1, h2, s12, t12) +
                                           slopeVariance(h2, h3, s23, t23));

@@ -164,10 +164,8 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
   }
   tracks.resize(kept);
   if (m_config.dropOutliers) {
+    // The kept tracks' flags are parallel to their hits (usedHitIds).
     for (Track& t : tracks) {
-      if (t.outlier.size() != t.hits.size()) {
-        continue;  // unfitted (checked in usedIds for the candidates)
-      }
       std::size_t n = 0;
       for (std::size_t k = 0; k < t.hits.size(); ++k) {
         if (t.outlier[k] == 0) {

@@ -46,6 +46,11 @@ class HelixFollower {
   /// spread over distant layers is mostly a random combination).
   bool skipsLayer(const HelixPath& p, const TransverseCircle& c);
 
+  /// helixTheta0 for this step's pT floor.
+  double theta0(std::uint32_t layer, double pt, double t) const;
+  /// circlePt in the field the finder uses for pT.
+  double ptOf(const TransverseCircle& c) const;
+
  private:
   /// A hit compatible with a predicted layer crossing: its chi2, arc
   /// length from the track's last hit, distance from the circle and z
@@ -86,7 +91,8 @@ class HelixFollower {
 
   /// Sets m_taken to the chosen hit of a layer crossing and, on other
   /// sensors of the same layer, the compatible hits of the crossing's
-  /// window (m_layerHits), the best per sensor: a particle crossing the
+  /// window (m_layerHits, sorted by chi2 as choose() leaves it), the best
+  /// per sensor: a particle crossing the
   /// overlap of two sensors leaves a hit on each. A partner is judged by
   /// the difference of its residuals and the chosen hit's (the track's own
   /// prediction error, far larger below a few GeV, cancels over the few
@@ -102,11 +108,6 @@ class HelixFollower {
 
   /// True if hit h is already on the path.
   static bool onPath(ConfIndex h, const HelixPath& p);
-
-  /// helixTheta0 for this step's pT floor.
-  double theta0(std::uint32_t layer, double pt, double t) const;
-  /// circlePt in the field the finder uses for pT.
-  double ptOf(const TransverseCircle& c) const;
 
   const FinderState& m_state;
   const ConformalHits& m_hits;
