@@ -31,6 +31,9 @@ constexpr std::size_t kMaxHitsPerCrossing = 3;
 constexpr double kOverlapFloor = 0.05;
 /// Hits of a crossing tried with the look-ahead (the best by chi2).
 constexpr std::size_t kLookAheadCandidates = 3;
+/// Weight of the scattering's share of the fitted curvature in the
+/// prediction error (1: the estimate of nextCrossing).
+constexpr double kCurvatureScatterScale = 1.0;
 /// Smallest window half-width around a predicted crossing [mm].
 constexpr double kMinWindow = 0.5;
 
@@ -155,7 +158,15 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     // before (factor 2 in the variances).
     const double ms = std::numbers::sqrt2 * ms0 * x.ds * secL;
     const double ratio = x.ds / lever;
-    const double extrap = sigmaLast * (1.0 + ratio * ratio);
+    // The hit errors' share of the fitted circle, and the scattering's:
+    // a kink of theta0 inside a path of length `lever` moves its fitted
+    // curvature by about 2 sqrt(2) theta0 / lever, which grows with the
+    // square of the extrapolation (a vertex-detector seed of 30 mm at
+    // 0.3 GeV misses the next layer, 70 mm on, by 0.5 mm that way).
+    const double curvature =
+        std::numbers::sqrt2 * ms0 * secL * x.ds * x.ds / lever;
+    const double extrap = std::hypot(sigmaLast * (1.0 + ratio * ratio),
+                                     kCurvatureScatterScale * curvature);
     // The filtered z's own error, and the scattering in the last layer
     // (its slope's variance holds that layer's only once it is left).
     const double msLast = ms0 * secL * secL * x.ds;
@@ -266,7 +277,16 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
   // Counter-clockwise motion is negative curvature in a positive field.
   const Helix helix(Vector3(m_hits.x[from], m_hits.y[from], z0 + t * sFrom),
                     momentum, -c.orientation, std::abs(m_state.bzForPt));
-  const double halfTurn = std::numbers::pi * c.rho;
+  // A path spans at most half a turn from its first hit: beyond it lies
+  // the incoming leg of a looper, which real simulations end (TrackML's
+  // loop protection stops particles after half a turn from production)
+  // and where the circle's orientation from its first, middle and last
+  // hits (fitCircle) and the arc lengths would be ambiguous. Noise hits on
+  // that leg otherwise lengthen a correct path into one the fit rejects.
+  const double halfTurn = std::numbers::pi * c.rho - sFrom;
+  if (!(halfTurn > kMinStep)) {
+    return;
+  }
   auto add = [&](std::uint32_t layer, double ds, bool disk) {
     const SensitiveLayer& l = m_layers[layer];
     const Vector3 x = helix.position(ds);
