@@ -221,11 +221,13 @@ TEST(HelixStep, PathsEndAfterHalfATurn) {
     for (const FoundTrack& t : r.tracks) {
       const int first = leg[t.hits.front()];
       const bool oneLeg =
-          first >= 0 && std::all_of(t.hits.begin(), t.hits.end(),
-                                    [&](HitIndex h) { return leg[h] == first; });
+          first >= 0 &&
+          std::all_of(t.hits.begin(), t.hits.end(),
+                      [&](HitIndex h) { return leg[h] == first; });
       mixed += oneLeg ? 0 : 1;
-      found = found || (oneLeg && first < 2 &&
-                         t.hits.size() == legSize[static_cast<std::size_t>(first)]);
+      found =
+          found || (oneLeg && first < 2 &&
+                    t.hits.size() == legSize[static_cast<std::size_t>(first)]);
     }
     whole += found ? 1 : 0;
   }

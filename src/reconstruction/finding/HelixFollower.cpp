@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <tuple>
+#include <utility>
 
 namespace conftrack::detail {
 
@@ -361,6 +363,115 @@ void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
       m_taken.push_back(lh);
     }
   }
+}
+
+void HelixFollower::addSeedPartners(HelixPath& p) {
+  TransverseCircle c;
+  if (p.hits.size() < 3 || !fitCircle(m_hits, p.hits, c)) {
+    return;
+  }
+  const double maxArc = m_state.config.overlapMaxArc;
+  const double window = maxArc + kMinWindow;
+  struct Partner {
+    std::uint32_t module;
+    double chi2;
+    ConfIndex hit;
+    double s;
+  };
+  std::vector<Partner> partners;
+  std::vector<std::pair<double, ConfIndex>> added;
+  const std::size_t seedHits = 3;
+  for (std::size_t k = 0; k < seedHits; ++k) {
+    const ConfIndex a = p.hits[k];
+    const std::uint32_t layer = m_hits.layer[a];
+    std::size_t onLayer = 0;
+    for (ConfIndex h : p.hits) {
+      onLayer += m_hits.layer[h] == layer ? 1 : 0;
+    }
+    for (const auto& [s, h] : added) {
+      onLayer += m_hits.layer[h] == layer ? 1 : 0;
+    }
+    if (onLayer >= kMaxHitsPerCrossing) {
+      continue;
+    }
+    const double ra = std::max(m_hits.radius[a], 1.0);
+    const double rPhiA = norm2(m_hits.x[a] - c.cx, m_hits.y[a] - c.cy) - c.rho;
+    const double sigmaA = transverseSigma(a);
+    m_window.clear();
+    m_pool.layerBox(layer, m_hits.phi[a], std::min(1.0, window / ra),
+                    m_hits.z[a] - window, m_hits.z[a] + window, ra - window,
+                    ra + window, m_window);
+    partners.clear();
+    for (ConfIndex h : m_window) {
+      if (m_state.used[h] != 0 || m_hits.layer[h] != layer || onPath(h, p) ||
+          std::any_of(p.hits.begin(), p.hits.end(),
+                      [&](ConfIndex q) { return m_hits.sameSensor(q, h); }) ||
+          std::any_of(added.begin(), added.end(), [&](const auto& q) {
+            return m_hits.sameSensor(q.second, h);
+          })) {
+        continue;
+      }
+      double arc = c.arc(m_hits.x[a], m_hits.y[a], m_hits.x[h], m_hits.y[h]);
+      if (arc > std::numbers::pi * c.rho) {
+        arc -= 2.0 * std::numbers::pi * c.rho;  // before the seed hit
+      }
+      if (!(std::abs(arc) <= maxArc)) {
+        continue;
+      }
+      const double dPerp =
+          norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho - rPhiA;
+      const double sigmaH = transverseSigma(h);
+      const double varPerp =
+          sigmaA * sigmaA + sigmaH * sigmaH + kOverlapFloor * kOverlapFloor;
+      const double dz = m_hits.z[h] - m_hits.z[a] - p.t * arc;
+      const double varZ = m_hits.varZ[a] + m_hits.varZ[h] +
+                          p.t * p.t * (m_hits.varRxy[a] + m_hits.varRxy[h]) +
+                          kOverlapFloor * kOverlapFloor;
+      const double chi2 = dPerp * dPerp / varPerp + dz * dz / varZ;
+      if (chi2 <= m_state.config.overlapMaxChi2) {
+        partners.push_back({m_hits.module[h], chi2, h, p.s[k] + arc});
+      }
+    }
+    // The best per sensor, best sensors first (total order).
+    std::sort(partners.begin(), partners.end(),
+              [](const Partner& x, const Partner& y) {
+                return std::tie(x.module, x.chi2, x.hit) <
+                       std::tie(y.module, y.chi2, y.hit);
+              });
+    partners.erase(std::unique(partners.begin(), partners.end(),
+                               [](const Partner& x, const Partner& y) {
+                                 return x.module == y.module;
+                               }),
+                   partners.end());
+    std::sort(partners.begin(), partners.end(),
+              [](const Partner& x, const Partner& y) {
+                return std::tie(x.chi2, x.hit) < std::tie(y.chi2, y.hit);
+              });
+    for (const Partner& q : partners) {
+      if (onLayer >= kMaxHitsPerCrossing) {
+        break;
+      }
+      added.emplace_back(q.s, q.hit);
+      p.chi2 += q.chi2;
+      ++onLayer;
+    }
+  }
+  if (added.empty()) {
+    return;
+  }
+  for (std::size_t k = 0; k < p.hits.size(); ++k) {
+    added.emplace_back(p.s[k], p.hits[k]);
+  }
+  std::sort(added.begin(), added.end());
+  // Arc lengths count from the path's first hit.
+  const double s0 = added.front().first;
+  p.hits.clear();
+  p.s.clear();
+  for (const auto& [s, h] : added) {
+    p.hits.push_back(h);
+    p.s.push_back(s - s0);
+  }
+  fitPathSz(m_hits, p);
 }
 
 double HelixFollower::transverseSigma(ConfIndex h) const {

@@ -419,6 +419,7 @@ class HelixBuilder {
       ++followed;
       HelixPath& path = tr.path;
       m_follower.follow(path);
+      m_follower.addSeedPartners(path);
       ++m_stats.paths;
       if (path.hits.size() >= m_step.minHits) {
         ++m_stats.candidates;

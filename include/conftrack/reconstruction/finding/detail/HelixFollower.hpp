@@ -40,6 +40,18 @@ class HelixFollower {
   /// Extends the path outwards hit by hit (see the class comment).
   void follow(HelixPath& p);
 
+  /// Adds the overlap partners of the path's seed hits (its first three),
+  /// which follow() does not see: on other sensors of a seed hit's layer,
+  /// unused hits within FinderConfig::overlapMaxArc of it whose residuals
+  /// to the path's circle and (s, z) line differ from the seed hit's by
+  /// at most FinderConfig::overlapMaxChi2 (the test of
+  /// addOverlapPartners), the best per sensor, up to three hits per
+  /// layer. Keeps the hits in arc-length order. A forward particle in
+  /// TrackML's pixel disks leaves pairs and triples on every disk: without
+  /// them its path has a hit per disk and falls short of the step's
+  /// minHits.
+  void addSeedPartners(HelixPath& p);
+
   /// True if the triplet's helix crosses another layer of the pool well
   /// inside its extent between its first and last hit: a seed must not
   /// skip a layer (the detector's layers are efficient, and a triplet
