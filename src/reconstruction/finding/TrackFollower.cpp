@@ -24,7 +24,11 @@
 // them apart). So when several hits on that layer are compatible, each of
 // the best few is scored by its chi2_uv + chi2_sz increase plus that of the
 // best continuation on the following layers (a look-ahead of
-// ExtensionCuts::lookahead layers), and the lowest total wins. The hits
+// ExtensionCuts::lookahead layers), and the lowest total wins. These
+// scores carry the scattering in the last layer in the hit variances
+// (LayerCrossingSearch::scatter), which the cuts leave out: without it the
+// hit nearest in (u, v) wins even where z, measured far less precisely on
+// strips, rules it out. The hits
 // examined per predicted crossing are bounded (ExtensionCuts::maxWindowHits,
 // counted; the nearest to the predicted point are kept), so that the cost
 // per track does not grow without bound with the hit density.
@@ -309,7 +313,21 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
           firstS = dist;
           out.clear();
         }
-        out.push_back({h, p.s, dUv + dSz, dUv});
+        // Candidates are ranked with the scattering in the last layer in
+        // their variances even where the cut above leaves it out: below a
+        // few GeV it moves the track by more than the hits' errors, so
+        // without it the hit nearest in (u, v) wins however far it lies
+        // in z (TrackML long strips: a noise hit 0.2 mm beside the track's
+        // own and 15 mm off in z, 5 sigma).
+        double rankUv = dUv;
+        double rankSz = dSz;
+        if (!allowance) {
+          const Scatter rank = m_search.scatter(uv, sz, last, h, ds);
+          rankUv = uv.deltaChi2(m_hits, h, rank.uv);
+          rankSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h] + rank.z,
+                                m_hits.varRxy[h]);
+        }
+        out.push_back({h, p.s, rankUv + rankSz, dUv});
       }
     }
   }

@@ -1,0 +1,87 @@
+// How extensions choose among the compatible hits of a layer crossing
+// (detail/TrackFollower.hpp): on TrackML's long strips, which measure z to
+// 3 mm only, a noise hit beside a track's own must not win on its
+// transverse residual alone.
+
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "TrackmlSample.hpp"
+
+namespace conftrack {
+namespace {
+
+TEST(ExtensionRanking, ScatteringRanksLongStripDecoysBelowTheTracksHits) {
+  // Central prompt particles of 0.5-1.5 GeV from event 1001 on the real
+  // sensors, no noise. Next to each of their long-strip barrel hits a
+  // decoy on the same sensor: 0.2 mm aside across the strips (alternately
+  // on either side) and 4 sigma (12.5 mm) along them. Below a few GeV the
+  // scattering in the last layer moves a track by more than 0.2 mm at the
+  // next long-strip layer, so a ranking by the hits' own errors takes the
+  // decoy whenever it lies on the side of the prediction, whatever its z;
+  // ranked with that scattering in the variances, z decides. Measured:
+  // 8.9 % of the long-strip hits on tracks are decoys (32.3 % when
+  // candidates were ranked without the scattering). Guarded at 15 %.
+  std::vector<Particle> particles;
+  for (const Particle& p : test::event1001Particles()) {
+    const double pt = p.momentum.head<2>().norm();
+    const double eta = std::asinh(p.momentum.z() / pt);
+    if (p.vertex.head<2>().norm() < 1.0 && pt > 0.5 && pt < 1.5 &&
+        std::abs(eta) < 0.8) {
+      particles.push_back(p);
+    }
+  }
+  ASSERT_GT(particles.size(), 300u);
+  Event event = test::simulateTrackml(particles, 0.0);
+  const Detector detector = loadDetector("trackml");
+  const auto longStrips = detector.findSubdetector("LongStripBarrel");
+  ASSERT_TRUE(longStrips.has_value());
+  const std::size_t nTrue = event.hits.size();
+  std::size_t decoys = 0;
+  for (std::size_t k = 0; k < nTrue; ++k) {
+    const Hit hit = event.hits[k];
+    if (hit.detId.subdetector != *longStrips) {
+      continue;
+    }
+    const double side = k % 2 == 0 ? 1.0 : -1.0;
+    Hit decoy = hit;
+    decoy.id = 1000000 + k;
+    decoy.position += side * 0.2 * hit.uAxis + 4.0 * hit.sigmaV * hit.vAxis;
+    event.hits.push_back(decoy);
+    event.truth.push_back(HitTruth{});
+    ++decoys;
+  }
+  ASSERT_GT(decoys, 500u);
+
+  Reconstruction::Config config =
+      readReconstructionConfig(resolveChainPath("trackml"), detector);
+  const Reconstruction reco(detector, config);
+  const Reconstruction::Result result = reco.run(event.hits);
+  std::size_t onTracks = 0;
+  std::size_t decoysOnTracks = 0;
+  for (const Track& t : result.tracks) {
+    for (HitIndex h : t.hits) {
+      if (event.hits[h].detId.subdetector == *longStrips) {
+        ++onTracks;
+        decoysOnTracks += h >= nTrue ? 1 : 0;
+      }
+    }
+  }
+  const double fraction =
+      double(decoysOnTracks) / double(std::max<std::size_t>(1, onTracks));
+  std::printf(
+      "[ long-strip decoys ] %zu decoys; of %zu long-strip hits on tracks "
+      "%zu decoys (%.3f)\n",
+      decoys, onTracks, decoysOnTracks, fraction);
+  EXPECT_GT(onTracks, 400u);
+  EXPECT_LE(fraction, 0.15);
+}
+
+}  // namespace
+}  // namespace conftrack

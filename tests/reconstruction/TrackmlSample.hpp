@@ -1,0 +1,92 @@
+#pragma once
+
+/// @file TrackmlSample.hpp
+/// Test helpers shared by the TrackML reconstruction tests: the particles
+/// of Kaggle event 1001 and the module-level simulation of the TrackML
+/// detector as `conftrack simulate-trackml` runs it.
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/core/Event.hpp"
+#include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/geometry/TrackmlModuleLayout.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
+#include "conftrack/simulation/TrackmlEvents.hpp"
+#include "conftrack/simulation/generators/HepMCText.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace conftrack::test {
+
+namespace fs = std::filesystem;
+
+inline const fs::path kTrackmlData =
+    fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml";
+
+/// The Kaggle particles file (particle_id,vx,vy,vz,px,py,pz,q,nhits; mm,
+/// GeV), as the io reader fills it: no PDG code, status 1, sorted by id.
+inline std::vector<Particle> readKaggleParticles(const fs::path& file) {
+  std::istringstream in(hepmc::loadFile(file));
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("particle_id,vx,vy,vz,px,py,pz,q,nhits", 0) != 0) {
+    throw InputError(file.string(), "unexpected header '" + line + "'");
+  }
+  std::vector<Particle> particles;
+  while (std::getline(in, line)) {
+    if (line.empty()) {
+      continue;
+    }
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream row(line);
+    Particle p;
+    double v[7] = {};
+    row >> p.id >> v[0] >> v[1] >> v[2] >> v[3] >> v[4] >> v[5] >> v[6] >>
+        p.nHits;
+    if (!row) {
+      throw InputError(file.string(), "malformed row '" + line + "'");
+    }
+    p.vertex = Vector3(v[0], v[1], v[2]);
+    p.momentum = Vector3(v[3], v[4], v[5]);
+    p.charge = v[6];
+    particles.push_back(p);
+  }
+  std::sort(particles.begin(), particles.end(),
+            [](const Particle& a, const Particle& b) { return a.id < b.id; });
+  return particles;
+}
+
+/// The particles of Kaggle event 1001.
+inline std::vector<Particle> event1001Particles() {
+  return readKaggleParticles(kTrackmlData / "train_100_events_no_truth" /
+                             "event000001001-particles.csv.gz");
+}
+
+/// `particles` through the module-level simulation of the TrackML
+/// detector as `conftrack simulate-trackml` runs it (the real sensors of
+/// detectors.csv, pT > 0.15 GeV, seed 1) with `noiseFraction` and, where
+/// given, the interactions moved to `region`.
+inline Event simulateTrackml(
+    const std::vector<Particle>& particles, double noiseFraction,
+    std::optional<LuminousRegion::Config> region = {}) {
+  static const fs::path modulesFile = kTrackmlData / "detectors.csv.gz";
+  static const std::vector<TrackmlModule> modules =
+      parseTrackmlModules(hepmc::loadFile(modulesFile), modulesFile.string());
+  static const Detector simDetector = buildTrackmlDetector(modules);
+  static const auto sensors = std::make_shared<const ModuleLayout>(
+      buildTrackmlModuleLayout(modules, simDetector));
+  TrackmlEventSimulation::Config simConfig;
+  simConfig.noiseFraction = noiseFraction;
+  simConfig.minPt = 0.15;
+  simConfig.seed = 1;
+  simConfig.luminousRegion = region;
+  return TrackmlEventSimulation(simDetector, sensors, simConfig)
+      .simulate(1001, particles);
+}
+
+}  // namespace conftrack::test
