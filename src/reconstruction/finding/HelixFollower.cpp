@@ -33,9 +33,9 @@ constexpr std::size_t kMaxHitsPerCrossing = 3;
 constexpr double kOverlapFloor = 0.05;
 /// Hits of a crossing tried with the look-ahead (the best by chi2).
 constexpr std::size_t kLookAheadCandidates = 3;
-/// Weight of the scattering's share of the fitted curvature in the
-/// prediction error (1: the estimate of nextCrossing).
-constexpr double kCurvatureScatterScale = 1.0;
+/// A path's seed hits (its first three), whose overlap partners
+/// addSeedPartners takes.
+constexpr std::size_t kSeedHits = 3;
 /// Smallest window half-width around a predicted crossing [mm].
 constexpr double kMinWindow = 0.5;
 
@@ -167,8 +167,8 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     // 0.3 GeV misses the next layer, 70 mm on, by 0.5 mm that way).
     const double curvature =
         std::numbers::sqrt2 * ms0 * secL * x.ds * x.ds / lever;
-    const double extrap = std::hypot(sigmaLast * (1.0 + ratio * ratio),
-                                     kCurvatureScatterScale * curvature);
+    const double extrap =
+        std::hypot(sigmaLast * (1.0 + ratio * ratio), curvature);
     // The filtered z's own error, and the scattering in the last layer
     // (its slope's variance holds that layer's only once it is left).
     const double msLast = ms0 * secL * secL * x.ds;
@@ -337,7 +337,6 @@ void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
       *std::find_if(m_layerHits.begin(), m_layerHits.end(),
                     [&](const LayerHit& lh) { return lh.hit == chosen; });
   m_taken.push_back(first);
-  const double sigmaChosen = transverseSigma(chosen);
   for (const LayerHit& lh : m_layerHits) {
     if (m_taken.size() >= kMaxHitsPerCrossing) {
       break;
@@ -348,17 +347,7 @@ void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
         })) {
       continue;
     }
-    const double dPerp = lh.rPhi - first.rPhi;
-    const double varPerp = sigmaChosen * sigmaChosen +
-                           transverseSigma(lh.hit) * transverseSigma(lh.hit) +
-                           kOverlapFloor * kOverlapFloor;
-    const double dz = lh.dz - first.dz;
-    // On disks z is exact and the arc length carries the radial error.
-    const double varZ =
-        m_hits.varZ[chosen] + m_hits.varZ[lh.hit] +
-        t * t * (m_hits.varRxy[chosen] + m_hits.varRxy[lh.hit]) +
-        kOverlapFloor * kOverlapFloor;
-    if (dPerp * dPerp / varPerp + dz * dz / varZ <=
+    if (pairChi2(chosen, lh.hit, lh.rPhi - first.rPhi, lh.dz - first.dz, t) <=
         m_state.config.overlapMaxChi2) {
       m_taken.push_back(lh);
     }
@@ -380,8 +369,7 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
   };
   std::vector<Partner> partners;
   std::vector<std::pair<double, ConfIndex>> added;
-  const std::size_t seedHits = 3;
-  for (std::size_t k = 0; k < seedHits; ++k) {
+  for (std::size_t k = 0; k < kSeedHits; ++k) {
     const ConfIndex a = p.hits[k];
     const std::uint32_t layer = m_hits.layer[a];
     std::size_t onLayer = 0;
@@ -396,7 +384,6 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
     }
     const double ra = std::max(m_hits.radius[a], 1.0);
     const double rPhiA = norm2(m_hits.x[a] - c.cx, m_hits.y[a] - c.cy) - c.rho;
-    const double sigmaA = transverseSigma(a);
     m_window.clear();
     m_pool.layerBox(layer, m_hits.phi[a], std::min(1.0, window / ra),
                     m_hits.z[a] - window, m_hits.z[a] + window, ra - window,
@@ -420,14 +407,8 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
       }
       const double dPerp =
           norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho - rPhiA;
-      const double sigmaH = transverseSigma(h);
-      const double varPerp =
-          sigmaA * sigmaA + sigmaH * sigmaH + kOverlapFloor * kOverlapFloor;
       const double dz = m_hits.z[h] - m_hits.z[a] - p.t * arc;
-      const double varZ = m_hits.varZ[a] + m_hits.varZ[h] +
-                          p.t * p.t * (m_hits.varRxy[a] + m_hits.varRxy[h]) +
-                          kOverlapFloor * kOverlapFloor;
-      const double chi2 = dPerp * dPerp / varPerp + dz * dz / varZ;
+      const double chi2 = pairChi2(a, h, dPerp, dz, p.t);
       if (chi2 <= m_state.config.overlapMaxChi2) {
         partners.push_back({m_hits.module[h], chi2, h, p.s[k] + arc});
       }
@@ -472,6 +453,19 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
     p.s.push_back(s - s0);
   }
   fitPathSz(m_hits, p);
+}
+
+double HelixFollower::pairChi2(ConfIndex a, ConfIndex h, double dPerp,
+                               double dz, double t) const {
+  const double sigmaA = transverseSigma(a);
+  const double sigmaH = transverseSigma(h);
+  const double varPerp =
+      sigmaA * sigmaA + sigmaH * sigmaH + kOverlapFloor * kOverlapFloor;
+  // On disks z is exact and the arc length carries the radial error.
+  const double varZ = m_hits.varZ[a] + m_hits.varZ[h] +
+                      t * t * (m_hits.varRxy[a] + m_hits.varRxy[h]) +
+                      kOverlapFloor * kOverlapFloor;
+  return dPerp * dPerp / varPerp + dz * dz / varZ;
 }
 
 double HelixFollower::transverseSigma(ConfIndex h) const {

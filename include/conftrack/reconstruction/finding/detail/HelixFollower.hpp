@@ -111,6 +111,13 @@ class HelixFollower {
   /// mm between them; OverlapHits does the same for conformal tracks).
   void addOverlapPartners(ConfIndex chosen, double t);
 
+  /// chi2 of two hits of one layer crossing on different sensors: the
+  /// differences dPerp of their distances from the circle and dz of their
+  /// z residuals (slope t), against both hits' errors and a 0.05 mm
+  /// alignment floor.
+  double pairChi2(ConfIndex a, ConfIndex h, double dPerp, double dz,
+                  double t) const;
+
   /// A hit's transverse resolution [mm] (its conformal tangential error
   /// scaled back).
   double transverseSigma(ConfIndex h) const;
