@@ -364,7 +364,9 @@ TrackmlScore scoreEvent1001(const char* label,
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   const TrackmlScore score = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
-  // Measured 0.8408, fake rate 0.015 (0.8399 and 0.015 before extensions
+  // Measured 0.8450, fake rate 0.015 (0.8408 and 0.015 before arc lengths
+  // of field-mapped hits were those of their mapped points, 0.8399 and
+  // 0.015 before extensions
   // ranked their candidates with the scattering, 0.8328 and 0.014 before
   // the strip
   // helix step took 6 hits from pT 0.2 GeV on, into the strip endcaps;
@@ -396,8 +398,9 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001WithHlLhcLength) {
   // The same event with its interactions moved to sigma_z = 50 mm
   // (--luminous-region hllhc): the seeds' z windows follow the vertices
   // found by the vertex-z pre-pass (docs/algorithm.md 3.16), so the score
-  // stays near that of the Kaggle length (measured 0.8347 against 0.8408,
-  // fake rate 0.029 against 0.015; 0.8257 and 0.027 before the strip
+  // stays near that of the Kaggle length (measured 0.8393 against 0.8450,
+  // fake rate 0.026 against 0.015; 0.8347 and 0.029 before the mapped
+  // arc lengths, 0.8257 and 0.027 before the strip
   // helix step's new cuts, 0.8161 and 0.028 before the helix
   // step's seed partners, 0.8123 and 0.029 before helix paths ended after
   // half a turn; 0.7840 and 0.024 before the helix steps;
@@ -419,7 +422,7 @@ TEST(TrackmlChain, FieldCorrectionRecoversTheForwardHits) {
   // predicts their layer crossings the same way (finder key
   // field_correction, PromptBending). Without it the strip extensions
   // leave forward hits off and take wrong ones: measured 0.8033 without,
-  // 0.8408 with (0.7547 and 0.7922 before the chain's helix steps).
+  // 0.8450 with (0.7547 and 0.7922 before the chain's helix steps).
   const TrackmlScore with = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
   const TrackmlScore without = scoreEvent1001(
       "sigma_z 5.5 mm, no field correction", std::nullopt, false);

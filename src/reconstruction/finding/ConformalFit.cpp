@@ -208,6 +208,12 @@ double ArcFrame::arcLength(double x, double y, double near) const {
   return radius * (turn + k * period);
 }
 
+double ArcFrame::hitArcLength(const ConformalHits& hits, ConfIndex h,
+                              double near) const {
+  const double g = hits.mapFactor(h);
+  return arcLength(g * hits.x[h], g * hits.y[h], near * g) / g;
+}
+
 Vector2 ArcFrame::pointAt(double s) const {
   double beta = beta0 + orientation * (radius > 0.0 ? s / radius : 0.0);
   return {centreX + radius * std::cos(beta), centreY + radius * std::sin(beta)};
@@ -220,7 +226,10 @@ ArcFrame makeArcFrame(const ConformalFitResult& circle,
   a.centreY = circle.centreY;
   a.radius = circle.radius;
   a.orientation = circle.orientation;
-  a.beta0 = std::atan2(hits.y[first] - a.centreY, hits.x[first] - a.centreX);
+  // The first hit's position in the conformal map (hitArcLength).
+  const double g = hits.mapFactor(first);
+  a.beta0 =
+      std::atan2(g * hits.y[first] - a.centreY, g * hits.x[first] - a.centreX);
   return a;
 }
 
@@ -254,7 +263,7 @@ SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
     ConfIndex i = track[k];
     // Successive hits are less than half a turn apart; unwrap against the
     // previous one.
-    s[k] = k == 0 ? 0.0 : arc.arcLength(hits.x[i], hits.y[i], prev);
+    s[k] = k == 0 ? 0.0 : arc.hitArcLength(hits, i, prev);
     prev = s[k];
   }
   Eigen::Vector2d params = Eigen::Vector2d::Zero();

@@ -72,7 +72,7 @@ void HoleFilling::run(FinderState& state, const HitPool& pool, StepStats& stats,
     hitS.assign(chain.hits.size(), 0.0);
     for (std::size_t k = 1; k < chain.hits.size(); ++k) {
       ConfIndex h = chain.hits[k];
-      hitS[k] = chain.arc.arcLength(hits.x[h], hits.y[h], hitS[k - 1]);
+      hitS[k] = chain.arc.hitArcLength(hits, h, hitS[k - 1]);
     }
     ConfIndex best = kInvalidIndex;
     double bestS = 0.0;
@@ -133,7 +133,7 @@ void HoleFilling::findHole(LayerCrossingSearch& search, const Chain& chain,
         if (state.used[h] != 0 || search.onSensorOf(chain.hits, h)) {
           continue;
         }
-        double s = chain.arc.arcLength(hits.x[h], hits.y[h], p.s);
+        double s = chain.arc.hitArcLength(hits, h, p.s);
         if (!(s > 0.0 && s < hitS.back())) {
           continue;
         }

@@ -182,8 +182,8 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
   }
   // In a non-uniform field the circle is the track's in the conformal map
   // of makeConformalHits: it passes the azimuth of a crossing at radius
-  // g r, and the arc length of the crossing itself is that of its own
-  // position (as for the hits of the (s, z) fit).
+  // g r, and the arc length of the crossing is that of the mapped point
+  // over g (ArcFrame::hitArcLength, as for the hits of the (s, z) fit).
   const PromptBending* bending = m_state.bending;
   if (!l.isDisk()) {
     // The circle with the cylinder's (of radius g r in the map).
@@ -199,7 +199,7 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
         if (!meetRadius(arc, l.r * g, sign, px, py)) {
           continue;
         }
-        s = after(arc.arcLength(px / g, py / g, s));
+        s = after(arc.arcLength(px, py, s * g) / g);
       }
       if (s > sExit) {
         continue;
@@ -225,13 +225,11 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
     Vector2 p = arc.pointAt(s);
     double r = p.norm();
     if (bending != nullptr) {
-      // The point of the circle whose own position (at radius r = |p| /
-      // g) has the arc length s.
-      double sMapped = s;
+      // The point of the circle at mapped arc length g s (hitArcLength),
+      // g taken at its own radius r = |p| / g.
       double g = bending->factor(r, l.z());
       for (int iteration = 0; iteration < 3; ++iteration) {
-        sMapped += s - arc.arcLength(p.x() / g, p.y() / g, sMapped);
-        p = arc.pointAt(sMapped);
+        p = arc.pointAt(s * g);
         r = p.norm() / g;
         g = bending->factor(r, l.z());
       }

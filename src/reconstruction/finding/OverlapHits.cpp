@@ -109,7 +109,7 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
   const ArcFrame arc = makeArcFrame(track.uv, m_hits, hits.front());
   std::vector<double> hitS(hits.size(), 0.0);
   for (std::size_t k = 1; k < hits.size(); ++k) {
-    hitS[k] = arc.arcLength(m_hits.x[hits[k]], m_hits.y[hits[k]], hitS[k - 1]);
+    hitS[k] = arc.hitArcLength(m_hits, hits[k], hitS[k - 1]);
   }
   const double slope = std::abs(track.sz.tanLambda);
 
@@ -183,7 +183,7 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
           onTrackSensor(h)) {
         continue;
       }
-      const double s = arc.arcLength(m_hits.x[h], m_hits.y[h], hitS[k]);
+      const double s = arc.hitArcLength(m_hits, h, hitS[k]);
       if (!(std::abs(s - hitS[k]) <= arcReach + kSidewaysMargin)) {
         continue;
       }
@@ -289,7 +289,7 @@ void arcLengths(const ConformalHits& ch, const ArcFrame& arc,
         near = refS[j];
       }
     }
-    out[k] = arc.arcLength(ch.x[h], ch.y[h], near);
+    out[k] = arc.hitArcLength(ch, h, near);
   }
 }
 
@@ -330,7 +330,7 @@ std::uint32_t mergeTracksSharingHits(FinderState& state, StepStats& stats) {
     const ArcFrame arc = makeArcFrame(ta.uv, ch, ta.hits.front());
     sA.assign(ta.hits.size(), 0.0);
     for (std::size_t k = 1; k < ta.hits.size(); ++k) {
-      sA[k] = arc.arcLength(ch.x[ta.hits[k]], ch.y[ta.hits[k]], sA[k - 1]);
+      sA[k] = arc.hitArcLength(ch, ta.hits[k], sA[k - 1]);
     }
     arcLengths(ch, arc, ta.hits, sA, tb.hits, sB);
     std::vector<std::pair<double, ConfIndex>> ordered;

@@ -290,7 +290,7 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
                               factor * m_cuts.maxCellAngle) {
           continue;
         }
-        double s = chain.arc.arcLength(m_hits.x[h], m_hits.y[h], p.s);
+        double s = chain.arc.hitArcLength(m_hits, h, p.s);
         if (m_inward ? !(s < sLast) : !(s > sLast)) {
           continue;
         }

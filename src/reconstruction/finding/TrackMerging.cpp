@@ -154,7 +154,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
     if (!(std::abs(d) <= m_config.maxTurnDistance)) {
       return false;
     }
-    s.push_back(arc.arcLength(m_hits.x[h], m_hits.y[h], 0.0));
+    s.push_back(arc.hitArcLength(m_hits, h, 0.0));
   }
   for (int k = -kMaxTurns; k <= kMaxTurns; ++k) {
     bool all = true;
@@ -251,7 +251,7 @@ bool TrackMerger::tryMerge(std::uint32_t ia, std::uint32_t ib,
     }
   }
   for (ConfIndex h : other.hits) {
-    const double s = arc.arcLength(m_hits.x[h], m_hits.y[h], 0.0);
+    const double s = arc.hitArcLength(m_hits, h, 0.0);
     const double dz = m_hits.z[h] - (ref.sz.z0 + ref.sz.tanLambda * s);
     if (!(std::abs(dz) <= m_config.maxDz)) {
       return false;
@@ -267,7 +267,7 @@ bool TrackMerger::tryMerge(std::uint32_t ia, std::uint32_t ib,
   ordered.reserve(a.hits.size() + b.hits.size());
   for (const TrackCandidate* t : {&a, &b}) {
     for (ConfIndex h : t->hits) {
-      ordered.emplace_back(arc.arcLength(m_hits.x[h], m_hits.y[h], 0.0), h);
+      ordered.emplace_back(arc.hitArcLength(m_hits, h, 0.0), h);
     }
   }
   std::sort(ordered.begin(), ordered.end());

@@ -76,6 +76,15 @@ struct ArcFrame {
 
   /// Arc length of the point (x, y), taking the turn closest to `near`.
   double arcLength(double x, double y, double near) const;
+  /// Arc length of hit h: that of its position in the conformal map (at
+  /// radius g r, on the circle of a track from the beam line) divided by
+  /// g, which is the transverse path of such a track in the field the map
+  /// corrects for (PromptBending; g = 1, the hit's own position, in a
+  /// uniform field). Near the apex of a low-momentum track the hit's own
+  /// position lies off the mapped circle and its angle there is no
+  /// measure of the path.
+  double hitArcLength(const ConformalHits& hits, ConfIndex h,
+                      double near) const;
   /// Point on the circle at arc length s.
   Vector2 pointAt(double s) const;
 };

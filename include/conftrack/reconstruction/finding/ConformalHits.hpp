@@ -9,6 +9,7 @@
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/geometry/PromptBending.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -57,6 +58,13 @@ struct ConformalHits {
     return layer[a] == layer[b] && module[a] == module[b];
   }
   bool isEndcap(ConfIndex a) const { return side[a] != 0; }
+  /// The factor g of the field map (PromptBending): hit a's conformal
+  /// point is that of its position moved to radius g R; exactly 1 in a
+  /// uniform field.
+  double mapFactor(ConfIndex a) const {
+    const double g = 1.0 / (radius[a] * rc[a]);
+    return std::abs(g - 1.0) < 1e-12 ? 1.0 : g;
+  }
 
   /// Covariance of (u, v) of hit i.
   Matrix2 covariance(ConfIndex i) const;
