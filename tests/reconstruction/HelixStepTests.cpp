@@ -25,14 +25,30 @@ const Detector& clicdet() {
   return det;
 }
 
-/// A helix step over the tracker, with `extra` keys appended.
-std::string helixStep(const std::string& extra) {
-  return "[[step]]\nname = \"H\"\n"
-         "collections = [\"InnerTrackerBarrel\", \"OuterTrackerBarrel\"]\n"
+/// A helix step over `collections` (by default the tracker barrels), with
+/// `extra` keys appended.
+std::string helixStep(const std::string& extra,
+                      const std::string& collections =
+                          "\"InnerTrackerBarrel\", \"OuterTrackerBarrel\"") {
+  return "[[step]]\nname = \"H\"\ncollections = [" + collections +
+         "]\n"
          "actions = [\"helix\"]\nmax_cell_angle = 0.03\n"
          "max_cell_angle_rz = 0.005\nchi2_cut = 12.0\nmin_hits = 4\n"
          "max_distance = 0.02\nslope_z_range = 10.0\nhigh_pt_cut_GeV = 0.0\n" +
          extra;
+}
+
+/// A one-muon gun in CLICdet, charge random, with `keys` (momentum and
+/// angle or vertex ranges) appended to its [generator] table.
+EventSimulation muonGun(std::uint64_t seed, const std::string& keys) {
+  EventSimulation::Config cfg;
+  cfg.sample = "muons";
+  cfg.seed = seed;
+  cfg.generatorToml =
+      "[generator]\nsample = \"gun\"\nparticle = \"mu-\"\n"
+      "random_charge = true\nmultiplicity = 1\n" +
+      keys;
+  return EventSimulation(clicdet(), cfg);
 }
 
 std::string helixError(const std::string& extra) {
@@ -92,16 +108,11 @@ TEST(HelixStep, KeysAreValidated) {
 double displacedMuonEfficiency(const FinderConfig& chain, std::size_t n,
                                std::size_t& fakes) {
   const ConformalTrackFinder finder(clicdet(), {chain});
-  EventSimulation::Config cfg;
-  cfg.sample = "muons";
-  cfg.seed = 5;
-  cfg.generatorToml =
-      "[generator]\nsample = \"gun\"\nparticle = \"mu-\"\n"
-      "random_charge = true\nmultiplicity = 1\np_GeV = 1.0\n"
-      "theta_min_deg = 80.0\ntheta_max_deg = 100.0\n"
-      "phi_min_deg = 80.0\nphi_max_deg = 100.0\n"
-      "r_min_mm = 250.0\nr_max_mm = 550.0\n";
-  EventSimulation sim(clicdet(), cfg);
+  const EventSimulation sim =
+      muonGun(5,
+              "p_GeV = 1.0\ntheta_min_deg = 80.0\ntheta_max_deg = 100.0\n"
+              "phi_min_deg = 80.0\nphi_max_deg = 100.0\n"
+              "r_min_mm = 250.0\nr_max_mm = 550.0\n");
   std::size_t particles = 0;
   std::size_t found = 0;
   fakes = 0;
@@ -168,24 +179,14 @@ TEST(HelixStep, PathsEndAfterHalfATurn) {
   // the two tracker hits 68 and 250 mm further out (before, the
   // prediction left out the scattering's share of the seed's curvature
   // and missed the 127 mm hit by 4 sigma).
-  const std::string chain =
-      "[[step]]\nname = \"H\"\n"
-      "collections = [\"VertexBarrel\", \"InnerTrackerBarrel\"]\n"
+  const std::string chain = helixStep(
       "seed_collections = [\"VertexBarrel\"]\n"
-      "actions = [\"helix\"]\nmax_cell_angle = 0.03\n"
-      "max_cell_angle_rz = 0.005\nchi2_cut = 12.0\nmin_hits = 4\n"
-      "max_distance = 0.02\nslope_z_range = 10.0\nhigh_pt_cut_GeV = 0.0\n"
-      "max_seed_length_mm = 100.0\nmin_pt_GeV = 0.1\n";
+      "max_seed_length_mm = 100.0\nmin_pt_GeV = 0.1\n",
+      "\"VertexBarrel\", \"InnerTrackerBarrel\"");
   const ConformalTrackFinder finder(
       clicdet(), {parseChain(chain, "chain.toml", clicdet())});
-  EventSimulation::Config cfg;
-  cfg.sample = "muons";
-  cfg.seed = 11;
-  cfg.generatorToml =
-      "[generator]\nsample = \"gun\"\nparticle = \"mu-\"\n"
-      "random_charge = true\nmultiplicity = 1\np_GeV = 0.3\n"
-      "theta_min_deg = 75.0\ntheta_max_deg = 80.0\n";
-  EventSimulation sim(clicdet(), cfg);
+  const EventSimulation sim =
+      muonGun(11, "p_GeV = 0.3\ntheta_min_deg = 75.0\ntheta_max_deg = 80.0\n");
   constexpr std::size_t kEvents = 40;
   std::size_t whole = 0;
   std::size_t mixed = 0;

@@ -4,12 +4,12 @@
 #include "conftrack/reconstruction/finding/detail/HelixFollower.hpp"
 
 #include "conftrack/geometry/Helix.hpp"
+#include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <tuple>
 #include <utility>
 
 namespace conftrack::detail {
@@ -361,13 +361,7 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
   }
   const double maxArc = m_state.config.overlapMaxArc;
   const double window = maxArc + kMinWindow;
-  struct Partner {
-    std::uint32_t module;
-    double chi2;
-    ConfIndex hit;
-    double s;
-  };
-  std::vector<Partner> partners;
+  std::vector<OverlapCandidate> partners;
   std::vector<std::pair<double, ConfIndex>> added;
   for (std::size_t k = 0; k < kSeedHits; ++k) {
     const ConfIndex a = p.hits[k];
@@ -413,22 +407,8 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
         partners.push_back({m_hits.module[h], chi2, h, p.s[k] + arc});
       }
     }
-    // The best per sensor, best sensors first (total order).
-    std::sort(partners.begin(), partners.end(),
-              [](const Partner& x, const Partner& y) {
-                return std::tie(x.module, x.chi2, x.hit) <
-                       std::tie(y.module, y.chi2, y.hit);
-              });
-    partners.erase(std::unique(partners.begin(), partners.end(),
-                               [](const Partner& x, const Partner& y) {
-                                 return x.module == y.module;
-                               }),
-                   partners.end());
-    std::sort(partners.begin(), partners.end(),
-              [](const Partner& x, const Partner& y) {
-                return std::tie(x.chi2, x.hit) < std::tie(y.chi2, y.hit);
-              });
-    for (const Partner& q : partners) {
+    keepBestPerSensor(partners);
+    for (const OverlapCandidate& q : partners) {
       if (onLayer >= kMaxHitsPerCrossing) {
         break;
       }

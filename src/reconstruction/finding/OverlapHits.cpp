@@ -41,14 +41,6 @@ constexpr double kAlongSigmas = 5.0;
 /// Largest half-width of the azimuth window [rad].
 constexpr double kMaxHalfPhi = 0.5;
 
-/// A compatible hit on another sensor of one of the track's layers.
-struct OverlapCandidate {
-  std::uint32_t module;
-  double chi2;
-  ConfIndex hit;
-  double s;
-};
-
 }  // namespace
 
 OverlapHitCollector::OverlapHitCollector(FinderState& state,
@@ -79,6 +71,24 @@ OverlapHitCollector::OverlapHitCollector(FinderState& state,
   for (std::uint32_t layer : pool.layers()) {
     m_inPool[layer] = 1;
   }
+}
+
+void keepBestPerSensor(std::vector<OverlapCandidate>& candidates) {
+  std::sort(candidates.begin(), candidates.end(),
+            [](const OverlapCandidate& x, const OverlapCandidate& y) {
+              return std::tie(x.module, x.chi2, x.hit) <
+                     std::tie(y.module, y.chi2, y.hit);
+            });
+  candidates.erase(
+      std::unique(candidates.begin(), candidates.end(),
+                  [](const OverlapCandidate& x, const OverlapCandidate& y) {
+                    return x.module == y.module;
+                  }),
+      candidates.end());
+  std::sort(candidates.begin(), candidates.end(),
+            [](const OverlapCandidate& x, const OverlapCandidate& y) {
+              return std::tie(x.chi2, x.hit) < std::tie(y.chi2, y.hit);
+            });
 }
 
 double OverlapHitCollector::pairChi2(const TrackCandidate& track, ConfIndex a,
@@ -196,22 +206,7 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
     if (candidates.empty()) {
       continue;
     }
-    // Best per sensor, then best sensors first (total order: chi2, hit).
-    std::sort(candidates.begin(), candidates.end(),
-              [](const OverlapCandidate& x, const OverlapCandidate& y) {
-                return std::tie(x.module, x.chi2, x.hit) <
-                       std::tie(y.module, y.chi2, y.hit);
-              });
-    candidates.erase(
-        std::unique(candidates.begin(), candidates.end(),
-                    [](const OverlapCandidate& x, const OverlapCandidate& y) {
-                      return x.module == y.module;
-                    }),
-        candidates.end());
-    std::sort(candidates.begin(), candidates.end(),
-              [](const OverlapCandidate& x, const OverlapCandidate& y) {
-                return std::tie(x.chi2, x.hit) < std::tie(y.chi2, y.hit);
-              });
+    keepBestPerSensor(candidates);
     std::uint32_t room = m_config.maxHitsPerLayer - hitsOnLayer(layer);
     for (const OverlapCandidate& c : candidates) {
       if (room == 0) {

@@ -12,6 +12,20 @@
 
 namespace conftrack::detail {
 
+/// A compatible hit on another sensor of one of a track's layers: a
+/// candidate second hit of an overlap (OverlapHitCollector, and the helix
+/// step's HelixFollower), with its pair chi2 and arc length.
+struct OverlapCandidate {
+  std::uint32_t module;
+  double chi2;
+  ConfIndex hit;
+  double s;
+};
+
+/// Keeps the best candidate of each sensor (lowest chi2, then hit) and
+/// orders those best first (total order: chi2, hit).
+void keepBestPerSensor(std::vector<OverlapCandidate>& candidates);
+
 /// Adds overlap hits to the live tracks of a FinderState.
 class OverlapHitCollector {
  public:
