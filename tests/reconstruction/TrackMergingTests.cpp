@@ -132,12 +132,13 @@ TEST(TrackMerging, DifferentNearbyHelicesStayApart) {
 
 /// Hits of a looper (circle of radius rho through the origin) on every
 /// barrel layer it crosses, outgoing half-turn (ids from 1) and incoming
-/// half-turn (ids from 51).
-std::vector<Hit> looperHits(const Detector& det, double rho, double tanL) {
+/// half-turn (ids from 51); firstId and firstId + 50 for another one.
+std::vector<Hit> looperHits(const Detector& det, double rho, double tanL,
+                            double phi0 = kPhi0, std::uint64_t firstId = 1) {
   const double omega = 1.0 / rho;
   auto pos = [&](double s) {
-    return Vector3((std::sin(kPhi0) - std::sin(kPhi0 - omega * s)) / omega,
-                   -(std::cos(kPhi0) - std::cos(kPhi0 - omega * s)) / omega,
+    return Vector3((std::sin(phi0) - std::sin(phi0 - omega * s)) / omega,
+                   -(std::cos(phi0) - std::cos(phi0 - omega * s)) / omega,
                    s * tanL);
   };
   std::vector<Hit> hits;
@@ -158,7 +159,7 @@ std::vector<Hit> looperHits(const Detector& det, double rho, double tanL) {
       }
       const Vector3 p = pos(0.5 * (lo + hi));
       hits.push_back(test::barrelHit(det, l, p.x(), p.y(), p.z(),
-                                     (turn == 0 ? 1u : 51u) + l));
+                                     (turn == 0 ? firstId : firstId + 50) + l));
     }
   }
   return hits;
@@ -198,6 +199,22 @@ TEST(TrackMerging, LooperSecondHalfTurnDoesNotJoinAnotherTrack) {
   ASSERT_EQ(f.state->tracks.size(), 2u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{101, 102, 103, 104, 105, 106,
                                                   107, 108}));
+}
+
+TEST(TrackMerging, AnotherLooperOnANearbyCircleIsKept) {
+  Fixture f;
+  // Two central loopers from the origin 0.05 rad apart in azimuth (circle
+  // centres 3.5 mm apart) and 0.15 apart in tanLambda, the second found on
+  // six layers (arc lengths 30-111 mm): its hits lie within 3 mm of the
+  // first one's circle and within 17 mm in z of the first one's helix.
+  // Only its tanLambda tells it from a further turn of the first (score 25
+  // from tanLambda alone, above 16).
+  f.hits = looperHits(f.det, 70.0, 0.05);
+  std::vector<Hit> other = looperHits(f.det, 70.0, 0.2, kPhi0 + 0.05, 101);
+  f.hits.insert(f.hits.end(), other.begin(), other.end());
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {101, 102, 103, 104, 105, 106}});
+  EXPECT_EQ(f.merge(), 0u);
+  EXPECT_EQ(f.state->tracks.size(), 2u);
 }
 
 TEST(TrackMerging, ChainKeysAreRead) {
@@ -240,6 +257,12 @@ TEST(TrackMerging, CutsAreValidated) {
   EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
   bad = {};
   bad.maxDeltaPhi = 4.0;
+  EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
+  bad = {};
+  bad.turnScaleTanLambda = 0.0;
+  EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
+  bad = {};
+  bad.maxTurnScore = std::nan("");
   EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
 }
 

@@ -30,17 +30,22 @@
 // found as an outgoing track of opposite charge on the same circle, the
 // next outgoing one as a copy of the first. They cross the same layers as
 // the first half-turn far from its hits, so they are never merged; instead
-// (Config::dropTurns) a track whose circle and hits lie within
+// (Config::dropTurns) a track whose hits lie within
 // Config::maxTurnDistance of the circle of a better track (betterCandidate:
 // more hits first) whose diameter is below the outermost layer radius
 // (Config::maxLoopDiameter: only such a particle turns back inside the
-// tracker; CLICdet pT < 0.9 GeV), at the z of that track's helix some whole
-// number of turns on
-// (|k| <= kMaxTurns, k = 0 for the sense-reversed copy of a central
-// looper), is dropped: its hits are left alone rather than becoming a
-// second track of the particle. Helix-step tracks take part in this rule
-// (their circle is the free real-space one, their z line a straight
-// s-z fit) but not in the merging, whose refit is the conformal one.
+// tracker; CLICdet pT < 0.9 GeV), whose circle lies within
+// Config::maxTurnCentreDistance of that circle, and whose hits lie within
+// Config::maxDz of the z of that track's helix some whole number of turns
+// on (|k| <= kMaxTurns, k = 0 for the sense-reversed copy of a central
+// looper), is dropped if its turn score (the squared differences in
+// tanLambda, centre, z and distance, each over its scale) is at most
+// Config::maxTurnScore: its hits are left alone rather than becoming a
+// second track of the particle. The score keeps the tracks of other
+// particles on nearby circles (they differ in tanLambda), which the
+// position gates alone dropped for central loopers. Helix-step tracks take part
+// in this rule (their circle is the free real-space one, their z line a
+// straight s-z fit) but not in the merging, whose refit is the conformal one.
 //
 // Compatible pairs are merged best merged fit first (total order: quality,
 // then track indices), each track at most once per round; rounds repeat
@@ -52,6 +57,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
@@ -104,6 +111,16 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
     throw std::invalid_argument(
         "TrackMerger: maxTurnDistance must be positive and finite");
   }
+  if (!positiveFinite(m_config.maxTurnCentreDistance) ||
+      !positiveFinite(m_config.turnScaleTanLambda) ||
+      !positiveFinite(m_config.turnScaleCentre) ||
+      !positiveFinite(m_config.turnScaleDz) ||
+      !positiveFinite(m_config.turnScaleDistance) ||
+      !positiveFinite(m_config.maxTurnScore)) {
+    throw std::invalid_argument(
+        "TrackMerger: the turn gates, scales and maxTurnScore must be "
+        "positive and finite");
+  }
   if (!positiveFinite(m_config.maxLoopDiameter)) {
     throw std::invalid_argument(
         "TrackMerger: maxLoopDiameter must be positive and finite");
@@ -138,36 +155,50 @@ bool TrackMerger::conflict(const TrackCandidate& a,
 bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
                                 const TrackCandidate& turn) const {
   const double radius = first.uv.radius;
+  const double centreDistance = norm2(first.uv.centreX - turn.uv.centreX,
+                                      first.uv.centreY - turn.uv.centreY);
   if (!(2.0 * radius <= m_config.maxLoopDiameter) ||
-      norm2(first.uv.centreX - turn.uv.centreX,
-            first.uv.centreY - turn.uv.centreY) > m_config.maxTurnDistance ||
-      std::abs(first.uv.radius - turn.uv.radius) > m_config.maxTurnDistance) {
+      centreDistance > m_config.maxTurnCentreDistance ||
+      std::abs(first.uv.radius - turn.uv.radius) >
+          m_config.maxTurnCentreDistance) {
     return false;
   }
+  // A turn crossed in the opposite sense (the incoming half-turn, found
+  // as an outgoing track of opposite charge) runs backwards in z.
+  const double sense = first.uv.orientation == turn.uv.orientation ? 1.0 : -1.0;
+  const double dTanLambda = turn.sz.tanLambda - sense * first.sz.tanLambda;
   const ArcFrame arc = makeArcFrame(first.uv, m_hits, first.hits.front());
   const double period = 2.0 * std::numbers::pi * radius;
   std::vector<double> s;
   s.reserve(turn.hits.size());
+  double distance = 0.0;
   for (ConfIndex h : turn.hits) {
-    const double d =
-        norm2(m_hits.x[h] - arc.centreX, m_hits.y[h] - arc.centreY) - radius;
-    if (!(std::abs(d) <= m_config.maxTurnDistance)) {
+    const double d = std::abs(
+        norm2(m_hits.x[h] - arc.centreX, m_hits.y[h] - arc.centreY) - radius);
+    if (!(d <= m_config.maxTurnDistance)) {
       return false;
     }
+    distance = std::max(distance, d);
     s.push_back(arc.hitArcLength(m_hits, h, 0.0));
   }
+  double bestDz = std::numeric_limits<double>::infinity();
   for (int k = -kMaxTurns; k <= kMaxTurns; ++k) {
-    bool all = true;
-    for (std::size_t i = 0; i < s.size() && all; ++i) {
-      const ConfIndex h = turn.hits[i];
+    double worst = 0.0;
+    for (std::size_t i = 0; i < s.size() && worst < bestDz; ++i) {
       const double z = first.sz.z0 + first.sz.tanLambda * (s[i] + k * period);
-      all = std::abs(m_hits.z[h] - z) <= m_config.maxDz;
+      worst = std::max(worst, std::abs(m_hits.z[turn.hits[i]] - z));
     }
-    if (all) {
-      return true;
-    }
+    bestDz = std::min(bestDz, worst);
   }
-  return false;
+  if (!(bestDz <= m_config.maxDz)) {
+    return false;
+  }
+  const auto square = [](double x) { return x * x; };
+  const double score = square(dTanLambda / m_config.turnScaleTanLambda) +
+                       square(centreDistance / m_config.turnScaleCentre) +
+                       square(bestDz / m_config.turnScaleDz) +
+                       square(distance / m_config.turnScaleDistance);
+  return score <= m_config.maxTurnScore;
 }
 
 std::uint32_t TrackMerger::dropTurns() {
@@ -184,7 +215,7 @@ std::uint32_t TrackMerger::dropTurns() {
     return betterCandidate(tracks[a], tracks[b]);
   });
   // Rank in that order, and the tracks sorted by circle-centre x: a turn's
-  // centre lies within maxTurnDistance of the first half-turn's.
+  // centre lies within maxTurnCentreDistance of the first half-turn's.
   std::vector<std::uint32_t> rank(tracks.size(), 0);
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     rank[order[i]] = i;
@@ -205,9 +236,9 @@ std::uint32_t TrackMerger::dropTurns() {
     turns.clear();
     auto it = std::lower_bound(
         byX.begin(), byX.end(),
-        std::make_pair(first.uv.centreX - m_config.maxTurnDistance, 0u));
+        std::make_pair(first.uv.centreX - m_config.maxTurnCentreDistance, 0u));
     for (; it != byX.end() &&
-           it->first <= first.uv.centreX + m_config.maxTurnDistance;
+           it->first <= first.uv.centreX + m_config.maxTurnCentreDistance;
          ++it) {
       const std::uint32_t u = it->second;
       if (rank[u] > rank[t] && tracks[u].alive &&

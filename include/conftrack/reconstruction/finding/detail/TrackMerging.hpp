@@ -55,6 +55,28 @@ class TrackMerger {
     /// of 0.1-1 GeV: turns far off their first half-turn's circle are not
     /// told from neighbouring low-pT particles.
     double maxTurnDistance = 10.0;
+    /// Largest distance of a further turn's circle centre, and of its
+    /// radius, from the first half-turn's [mm]. A turn piece of four to
+    /// six hits measures its circle poorly (on CLICdet tt-bar + 30 BX a
+    /// tenth of the true turns lie 14-30 mm off), so this gate is wide and
+    /// the decision is taken by the turn score below.
+    double maxTurnCentreDistance = 30.0;
+    /// The turn score: the sum of the squares of four differences, each
+    /// divided by its scale, at most maxTurnScore. The differences are
+    /// those of tanLambda (the second turn crossed in the opposite sense
+    /// has the opposite sign), of the circle centres [mm], the largest z
+    /// distance of a turn hit from the first half-turn's helix at the best
+    /// whole number of turns [mm], and the largest transverse distance of
+    /// a turn hit from its circle [mm]. The scales are the typical values
+    /// of true further turns on CLICdet tt-bar + 30 BX (medians 0.019, 4,
+    /// 2.3 and 1.2); another particle on a nearby circle differs most in
+    /// tanLambda (median 0.16), which the position gates alone miss for
+    /// central loopers, whose z advances by millimetres per turn.
+    double turnScaleTanLambda = 0.03;
+    double turnScaleCentre = 8.0;
+    double turnScaleDz = 5.0;
+    double turnScaleDistance = 3.0;
+    double maxTurnScore = 16.0;
     /// Largest diameter of a circle that can loop inside the tracker [mm]:
     /// a particle through the beam line reaches twice its circle's radius,
     /// so one that turns back inside the tracker has a diameter below the
@@ -83,7 +105,8 @@ class TrackMerger {
   /// Tries to merge tracks a and b; fills `out` and returns true if they
   /// are compatible.
   bool tryMerge(std::uint32_t a, std::uint32_t b, TrackCandidate& out) const;
-  /// True if `turn` lies on a further half-turn of the helix of `first`.
+  /// True if `turn` lies on a further half-turn of the helix of `first`
+  /// (its turn score is at most Config::maxTurnScore).
   bool isFurtherTurn(const TrackCandidate& first,
                      const TrackCandidate& turn) const;
   /// Drops further half-turns (Config::dropTurns); returns how many.
