@@ -100,6 +100,29 @@ TEST(TrackMerging, TwoPiecesOfOneHelixAreMerged) {
   EXPECT_NEAR(f.state->tracks[0].sz.tanLambda, kTanL, 1e-3);
 }
 
+TEST(TrackMerging, PiecesBeyondTheirStepsCutAreMergedByTheRatio) {
+  // Hits 30 um off the helix, alternately on either side (6 sigma): each
+  // piece's circle fit has a chi2/ndf of order 100, above a step cut of
+  // 10 that the pieces passed when they were built (the extension, not
+  // the step, took them past it). The merged fit is as good as the
+  // pieces', so they merge; the step's cut is not applied again.
+  Fixture f;
+  f.hits = test::helixHits(f.det, kRho, kPhi0, 1, kTanL, 1);
+  for (std::size_t i = 0; i < f.hits.size(); ++i) {
+    Hit& h = f.hits[i];
+    const Vector3 across =
+        Vector3(-h.position.y(), h.position.x(), 0.0).normalized();
+    h.position += (i % 2 == 0 ? 0.03 : -0.03) * across;
+  }
+  f.prepare({{1, 2, 3, 4}, {5, 6, 7, 8}});
+  const double pieceChi2 = f.state->tracks[0].uv.chi2PerNdf();
+  EXPECT_GT(pieceChi2, 10.0);
+  f.cfg.steps[0].chi2Cut = 10.0;
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8}));
+}
+
 TEST(TrackMerging, OrderOfHitsAndPiecesDoesNotMatter) {
   Fixture f;
   f.hits = test::helixHits(f.det, kRho, kPhi0, -1, kTanL, 1);

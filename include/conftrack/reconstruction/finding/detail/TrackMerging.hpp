@@ -36,8 +36,8 @@ class TrackMerger {
     double maxSameLayerDistance = 25.0;
     /// The merged fit's chi2 per degree of freedom (each of uv and sz)
     /// must not exceed this multiple of the larger of the pieces' own,
-    /// with the pieces' value counted as at least 1 (on top of the chi2
-    /// cut of the pieces' steps).
+    /// with the pieces' value counted as at least 1 (the steps' own chi2
+    /// cuts are not applied: see TrackMerging.cpp).
     double maxChi2Ratio = 10.0;
     /// Rounds of merging (a particle in three pieces needs two).
     std::uint32_t maxRounds = 3;
@@ -114,9 +114,6 @@ class TrackMerger {
   /// True if hits of the two pieces share a sensor, or lie on one layer
   /// further apart than an overlap.
   bool conflict(const TrackCandidate& a, const TrackCandidate& b) const;
-  /// The largest chi2 cut of the steps that made a and b at pT `pt`.
-  double chi2Cut(const TrackCandidate& a, const TrackCandidate& b,
-                 double pt) const;
 
   FinderState& m_state;
   const ConformalHits& m_hits;
