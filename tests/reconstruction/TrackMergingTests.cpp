@@ -210,6 +210,40 @@ TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
   EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
 }
 
+TEST(TrackMerging, ScatteredFurtherTurnIsStillRecognised) {
+  // The incoming half-turn 21 mm off in z (as scattering leaves it a few
+  // hundred millimetres of path on; tanLambda 0.5, 220 mm per turn):
+  // beyond the 20 mm z gate at the first half-turn's end, inside it once
+  // the distance is divided by 1 + path / 1 m (path 150-270 mm).
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.5);
+  for (Hit& h : f.hits) {
+    if (h.id > 50) {
+      h.position.z() += 21.0;
+    }
+  }
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
+TEST(TrackMerging, PieceAcrossTheApexIsRecognised) {
+  // A piece of the looper round its apex (R = 140 mm: out through layer
+  // 120, back through 120-80) beside a first track through layers 30-100
+  // (they cross layer 100 on opposite sides, so they are not merged). The
+  // piece's hits lie on both sides of the point of the circle opposite
+  // the first hit, where arc lengths measured from the first hit wrap
+  // round by a period; counted continuously along the piece they match
+  // the first track's helix, and the piece is dropped as its further turn.
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.5);
+  f.prepare({{1, 2, 3, 4, 5, 6}, {7, 57, 56, 55}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6}));
+}
+
 TEST(TrackMerging, LooperSecondHalfTurnDoesNotJoinAnotherTrack) {
   Fixture f;
   f.hits = looperHits(f.det, 70.0, 0.05);

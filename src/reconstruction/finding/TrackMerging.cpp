@@ -44,7 +44,8 @@
 // Config::maxTurnCentreDistance of that circle, and whose hits lie within
 // Config::maxDz of the z of that track's helix some whole number of turns
 // on (|k| <= kMaxTurns, k = 0 for the sense-reversed copy of a central
-// looper), is dropped if its turn score (the squared differences in
+// looper; the distance divided by 1 + path / Config::turnDzPathScale), is
+// dropped if its turn score (the squared differences in
 // tanLambda, centre, z and distance, each over its scale) is at most
 // Config::maxTurnScore: its hits are left alone rather than becoming a
 // second track of the particle. The score keeps the tracks of other
@@ -122,6 +123,7 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
       !positiveFinite(m_config.turnScaleCentre) ||
       !positiveFinite(m_config.turnScaleDz) ||
       !positiveFinite(m_config.turnScaleDistance) ||
+      !positiveFinite(m_config.turnDzPathScale) ||
       !positiveFinite(m_config.maxTurnScore)) {
     throw std::invalid_argument(
         "TrackMerger: the turn gates, scales and maxTurnScore must be "
@@ -185,14 +187,21 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
       return false;
     }
     distance = std::max(distance, d);
-    s.push_back(arc.hitArcLength(m_hits, h, 0.0));
+    // Continued from the previous hit: a turn that crosses the far side
+    // of the circle (the first hit's azimuth + pi) would otherwise jump
+    // by a period between its hits and match no single turn number.
+    s.push_back(arc.hitArcLength(m_hits, h, s.empty() ? 0.0 : s.back()));
   }
   double bestDz = std::numeric_limits<double>::infinity();
+  // z distances are counted relative to the path from the first
+  // half-turn's last hit (Config::turnDzPathScale).
   for (int k = -kMaxTurns; k <= kMaxTurns; ++k) {
     double worst = 0.0;
     for (std::size_t i = 0; i < s.size() && worst < bestDz; ++i) {
       const double z = first.sz.z0 + first.sz.tanLambda * (s[i] + k * period);
-      worst = std::max(worst, std::abs(m_hits.z[turn.hits[i]] - z));
+      const double path = std::abs(s[i] + k * period - first.sz.lastS);
+      worst = std::max(worst, std::abs(m_hits.z[turn.hits[i]] - z) /
+                                  (1.0 + path / m_config.turnDzPathScale));
     }
     bestDz = std::min(bestDz, worst);
   }
