@@ -228,6 +228,46 @@ TEST(TrackMerging, ScatteredFurtherTurnIsStillRecognised) {
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
 }
 
+TEST(TrackMerging, ShrunkFurtherTurnIsRecognisedByItsFreeCircle) {
+  // Energy lost at the apex: the incoming half-turn continues on a circle
+  // 4 mm smaller, touching the first one there (its centre moved 4 mm
+  // towards the apex), so it passes 8 mm from the origin. Its conformal
+  // fit, a circle through the origin, puts its centre 10 mm off, its free
+  // circle 4 mm: with the centre gate at 8 mm, only the free circle lets
+  // it be recognised as the further turn it is.
+  Fixture f;
+  constexpr double kLoopRho = 70.0;
+  constexpr double kLoss = 4.0;
+  f.hits = looperHits(f.det, kLoopRho, 0.05);
+  const Vector3 centre(kLoopRho * std::sin(kPhi0), -kLoopRho * std::cos(kPhi0),
+                       0.0);
+  const Vector3 shrunkCentre = centre + kLoss * centre.normalized();
+  for (Hit& h : f.hits) {
+    if (h.id > 50) {
+      const Vector3 out =
+          Vector3(h.position.x() - centre.x(), h.position.y() - centre.y(), 0.0)
+              .normalized();
+      const Vector3 p = shrunkCentre + (kLoopRho - kLoss) * out;
+      h.position.x() = p.x();
+      h.position.y() = p.y();
+    }
+  }
+  // The piece fails a circle-through-the-origin cut (an extension, not a
+  // build, would have made it).
+  f.cfg.steps[0].chi2Cut = 1e9;
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54}});
+  const double conformalOffset =
+      std::hypot(f.state->tracks[1].uv.centreX - centre.x(),
+                 f.state->tracks[1].uv.centreY - centre.y());
+  EXPECT_GT(conformalOffset, 8.0);
+  detail::TrackMerger::Config cfg;
+  cfg.maxTurnCentreDistance = 8.0;
+  EXPECT_EQ(detail::TrackMerger(*f.state, cfg).run(), 1u);
+  f.state->compact();
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
 TEST(TrackMerging, PieceAcrossTheApexIsRecognised) {
   // A piece of the looper round its apex (R = 140 mm: out through layer
   // 120, back through 120-80) beside a first track through layers 30-100

@@ -40,8 +40,10 @@
 // Config::maxTurnDistance of the circle of a better track (betterCandidate:
 // more hits first) whose diameter is below the outermost layer radius
 // (Config::maxLoopDiameter: only such a particle turns back inside the
-// tracker; CLICdet pT < 0.9 GeV), whose circle lies within
-// Config::maxTurnCentreDistance of that circle, and whose hits lie within
+// tracker; CLICdet pT < 0.9 GeV), whose circle (a free fit to its hits:
+// the conformal one assumes a circle through the origin, which a further
+// turn no longer is) lies within Config::maxTurnCentreDistance of that
+// circle, and whose hits lie within
 // Config::maxDz of the z of that track's helix some whole number of turns
 // on (|k| <= kMaxTurns, k = 0 for the sense-reversed copy of a central
 // looper; the distance divided by 1 + path / Config::turnDzPathScale), is
@@ -62,9 +64,10 @@
 
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 
+#include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -161,13 +164,14 @@ bool TrackMerger::conflict(const TrackCandidate& a,
 }
 
 bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
-                                const TrackCandidate& turn) const {
+                                const TrackCandidate& turn,
+                                const FreeCircle& turnCircle) const {
   const double radius = first.uv.radius;
-  const double centreDistance = norm2(first.uv.centreX - turn.uv.centreX,
-                                      first.uv.centreY - turn.uv.centreY);
+  const double centreDistance = norm2(first.uv.centreX - turnCircle.centreX,
+                                      first.uv.centreY - turnCircle.centreY);
   if (!(2.0 * radius <= m_config.maxLoopDiameter) ||
       centreDistance > m_config.maxTurnCentreDistance ||
-      std::abs(first.uv.radius - turn.uv.radius) >
+      std::abs(first.uv.radius - turnCircle.radius) >
           m_config.maxTurnCentreDistance) {
     return false;
   }
@@ -235,10 +239,25 @@ std::uint32_t TrackMerger::dropTurns() {
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     rank[order[i]] = i;
   }
+  // Each track's circle as a further turn: a free least-squares circle
+  // through its hits. The conformal fit assumes a circle through the
+  // origin, which a turn that energy loss and scattering have moved is not:
+  // its conformal centre lies tens of millimetres off (helix-step tracks
+  // have a free circle already; three-hit ones keep theirs).
+  std::vector<FreeCircle> circles(tracks.size());
+  for (std::uint32_t t : order) {
+    const TrackCandidate& c = tracks[t];
+    FreeCircle& f = circles[t];
+    f = {c.uv.centreX, c.uv.centreY, c.uv.radius};
+    TransverseCircle free;
+    if (!c.helix && c.hits.size() >= 4 && fitCircle(m_hits, c.hits, free)) {
+      f = {free.cx, free.cy, free.rho};
+    }
+  }
   std::vector<std::pair<double, std::uint32_t>> byX;
   byX.reserve(order.size());
   for (std::uint32_t t : order) {
-    byX.emplace_back(tracks[t].uv.centreX, t);
+    byX.emplace_back(circles[t].centreX, t);
   }
   std::sort(byX.begin(), byX.end());
   std::vector<std::uint32_t> turns;
@@ -257,7 +276,7 @@ std::uint32_t TrackMerger::dropTurns() {
          ++it) {
       const std::uint32_t u = it->second;
       if (rank[u] > rank[t] && tracks[u].alive &&
-          isFurtherTurn(first, tracks[u])) {
+          isFurtherTurn(first, tracks[u], circles[u])) {
         turns.push_back(u);
       }
     }

@@ -56,10 +56,12 @@ class TrackMerger {
     /// told from neighbouring low-pT particles.
     double maxTurnDistance = 10.0;
     /// Largest distance of a further turn's circle centre, and of its
-    /// radius, from the first half-turn's [mm]. A turn piece of four to
-    /// six hits measures its circle poorly (on CLICdet tt-bar + 30 BX a
-    /// tenth of the true turns lie 14-30 mm off), so this gate is wide and
-    /// the decision is taken by the turn score below.
+    /// radius, from the first half-turn's [mm]. The turn's circle is a
+    /// free least-squares fit to its hits (its conformal fit assumes a
+    /// circle through the origin, which a turn moved by energy loss and
+    /// scattering is not). A turn piece of four to six hits measures its
+    /// circle poorly, so this gate is wide and the decision is taken by
+    /// the turn score below.
     double maxTurnCentreDistance = 30.0;
     /// The turn score: the sum of the squares of four differences, each
     /// divided by its scale, at most maxTurnScore. The differences are
@@ -102,6 +104,12 @@ class TrackMerger {
   std::uint32_t run();
 
  private:
+  /// A track's circle in the transverse plane [mm].
+  struct FreeCircle {
+    double centreX = 0.0;
+    double centreY = 0.0;
+    double radius = 0.0;
+  };
   /// A compatible pair: the merged hits and fits.
   struct Merge {
     double score;
@@ -113,10 +121,11 @@ class TrackMerger {
   /// Tries to merge tracks a and b; fills `out` and returns true if they
   /// are compatible.
   bool tryMerge(std::uint32_t a, std::uint32_t b, TrackCandidate& out) const;
-  /// True if `turn` lies on a further half-turn of the helix of `first`
-  /// (its turn score is at most Config::maxTurnScore).
-  bool isFurtherTurn(const TrackCandidate& first,
-                     const TrackCandidate& turn) const;
+  /// True if `turn`, whose free circle is `turnCircle`, lies on a further
+  /// half-turn of the helix of `first` (its turn score is at most
+  /// Config::maxTurnScore).
+  bool isFurtherTurn(const TrackCandidate& first, const TrackCandidate& turn,
+                     const FreeCircle& turnCircle) const;
   /// Drops further half-turns (Config::dropTurns); returns how many.
   std::uint32_t dropTurns();
   /// True if hits of the two pieces share a sensor, or lie on one layer
