@@ -209,6 +209,10 @@ TEST(ExtensionConfig, FromStepTakesTheStepAndFinderSettings) {
     EXPECT_EQ(c.cuts.chi2CutAt(pt), cfg.steps[0].chi2CutAt(pt)) << pt;
   }
   EXPECT_DOUBLE_EQ(c.cuts.chi2CutAt(1.25), 200.0);
+  // The inward completion has its own key (inward_scattering_allowance).
+  EXPECT_TRUE(
+      InwardExtension::Config::fromStep(cfg.steps[0], cfg).scatteringAllowance);
+  cfg.inwardScatteringAllowance = false;
   EXPECT_FALSE(
       InwardExtension::Config::fromStep(cfg.steps[0], cfg).scatteringAllowance);
 }

@@ -184,6 +184,8 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         f.getBool("final_hole_filling", cfg.finalHoleFilling);
     cfg.scatteringAllowance =
         f.getBool("scattering_allowance", cfg.scatteringAllowance);
+    cfg.inwardScatteringAllowance =
+        f.getBool("inward_scattering_allowance", cfg.inwardScatteringAllowance);
     cfg.overlapHits = f.getBool("overlap_hits", cfg.overlapHits);
     cfg.fieldCorrection = f.getBool("field_correction", cfg.fieldCorrection);
     cfg.overlapMaxChi2 =

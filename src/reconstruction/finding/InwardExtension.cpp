@@ -8,7 +8,7 @@ InwardExtension::Config InwardExtension::Config::fromStep(
     const FindingStep& step, const FinderConfig& finder) {
   Config c;
   c.cuts = ExtensionCuts::fromStep(step, finder);
-  c.scatteringAllowance = finder.scatteringAllowance;
+  c.scatteringAllowance = finder.inwardScatteringAllowance;
   return c;
 }
 

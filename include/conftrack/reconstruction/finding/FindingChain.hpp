@@ -225,6 +225,13 @@ struct FinderConfig {
   /// track's momentum estimate) in its chi2 increments. A conftrack
   /// addition: upstream's conformal chi2 knows only the hit resolutions.
   bool scatteringAllowance = true;
+  /// The same allowance for the inward completion of newly built tracks
+  /// (InwardExtension), on its own key: the innermost layers are the
+  /// thickest relative to the hit resolution, and a forward track's kink
+  /// there moves the innermost hit in z by (1 + tan^2 lambda) times the
+  /// deflection (chain key inward_scattering_allowance; the TrackML chain
+  /// keeps it while switching scattering_allowance off).
+  bool inwardScatteringAllowance = true;
   /// In a non-uniform field (a solenoid's, Detector::field()), map each
   /// hit to the conformal plane at the radius where a track from the beam
   /// line in the central field would cross its azimuth (PromptBending), and

@@ -31,7 +31,7 @@ class InwardExtension {
     ExtensionCuts cuts;
     /// Retry the nearest crossing with the allowance for multiple
     /// scattering when no hit passes without it (finder key
-    /// scattering_allowance).
+    /// inward_scattering_allowance).
     bool scatteringAllowance = true;
 
     /// The configuration of `step` in `finder`.
