@@ -30,7 +30,8 @@
 //     not after the extension, and the pieces of a low-momentum particle,
 //     extended through its multiple scattering, exceed it themselves
 //     (required, it rejected 98 % of the pairs of one particle that
-//     reached it, and 0.1 % of the duplicates went with it).
+//     reached it; without it the duplicate rate went from 5.42 to
+//     5.36 %).
 // Loopers: a particle below about 1 GeV (CLICdet) curls inside the tracker
 // and the finder builds one track per half-turn: the incoming half-turn is
 // found as an outgoing track of opposite charge on the same circle, the
@@ -249,9 +250,9 @@ std::uint32_t TrackMerger::dropTurns() {
     const TrackCandidate& c = tracks[t];
     FreeCircle& f = circles[t];
     f = {c.uv.centreX, c.uv.centreY, c.uv.radius};
-    TransverseCircle free;
-    if (!c.helix && c.hits.size() >= 4 && fitCircle(m_hits, c.hits, free)) {
-      f = {free.cx, free.cy, free.rho};
+    TransverseCircle fitted;
+    if (!c.helix && c.hits.size() >= 4 && fitCircle(m_hits, c.hits, fitted)) {
+      f = {fitted.cx, fitted.cy, fitted.rho};
     }
   }
   std::vector<std::pair<double, std::uint32_t>> byX;
