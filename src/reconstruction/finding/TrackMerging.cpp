@@ -65,8 +65,6 @@
 
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 
-#include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -166,14 +164,13 @@ bool TrackMerger::conflict(const TrackCandidate& a,
 
 bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
                                 const TrackCandidate& turn,
-                                const FreeCircle& turnCircle) const {
+                                const TransverseCircle& turnCircle) const {
+  // (dropTurns passes only firsts whose circle can loop: maxLoopDiameter.)
   const double radius = first.uv.radius;
-  const double centreDistance = norm2(first.uv.centreX - turnCircle.centreX,
-                                      first.uv.centreY - turnCircle.centreY);
-  if (!(2.0 * radius <= m_config.maxLoopDiameter) ||
-      centreDistance > m_config.maxTurnCentreDistance ||
-      std::abs(first.uv.radius - turnCircle.radius) >
-          m_config.maxTurnCentreDistance) {
+  const double centreDistance =
+      norm2(first.uv.centreX - turnCircle.cx, first.uv.centreY - turnCircle.cy);
+  if (centreDistance > m_config.maxTurnCentreDistance ||
+      std::abs(radius - turnCircle.rho) > m_config.maxTurnCentreDistance) {
     return false;
   }
   // A turn crossed in the opposite sense (the incoming half-turn, found
@@ -245,20 +242,20 @@ std::uint32_t TrackMerger::dropTurns() {
   // origin, which a turn that energy loss and scattering have moved is not:
   // its conformal centre lies tens of millimetres off (helix-step tracks
   // have a free circle already; three-hit ones keep theirs).
-  std::vector<FreeCircle> circles(tracks.size());
+  std::vector<TransverseCircle> circles(tracks.size());
   for (std::uint32_t t : order) {
     const TrackCandidate& c = tracks[t];
-    FreeCircle& f = circles[t];
-    f = {c.uv.centreX, c.uv.centreY, c.uv.radius};
-    TransverseCircle fitted;
-    if (!c.helix && c.hits.size() >= 4 && fitCircle(m_hits, c.hits, fitted)) {
-      f = {fitted.cx, fitted.cy, fitted.rho};
+    if (c.helix || c.hits.size() < 4 ||
+        !fitCircle(m_hits, c.hits, circles[t])) {
+      circles[t].cx = c.uv.centreX;
+      circles[t].cy = c.uv.centreY;
+      circles[t].rho = c.uv.radius;
     }
   }
   std::vector<std::pair<double, std::uint32_t>> byX;
   byX.reserve(order.size());
   for (std::uint32_t t : order) {
-    byX.emplace_back(circles[t].centreX, t);
+    byX.emplace_back(circles[t].cx, t);
   }
   std::sort(byX.begin(), byX.end());
   std::vector<std::uint32_t> turns;

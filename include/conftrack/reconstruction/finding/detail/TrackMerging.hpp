@@ -7,6 +7,7 @@
 /// algorithm is described in TrackMerging.cpp).
 
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+#include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -110,12 +111,6 @@ class TrackMerger {
   std::uint32_t run();
 
  private:
-  /// A track's circle in the transverse plane [mm].
-  struct FreeCircle {
-    double centreX = 0.0;
-    double centreY = 0.0;
-    double radius = 0.0;
-  };
   /// A compatible pair: the merged hits and fits.
   struct Merge {
     double score;
@@ -131,7 +126,7 @@ class TrackMerger {
   /// half-turn of the helix of `first` (its turn score is at most
   /// Config::maxTurnScore).
   bool isFurtherTurn(const TrackCandidate& first, const TrackCandidate& turn,
-                     const FreeCircle& turnCircle) const;
+                     const TransverseCircle& turnCircle) const;
   /// Drops further half-turns (Config::dropTurns); returns how many.
   std::uint32_t dropTurns();
   /// True if hits of the two pieces share a sensor, or lie on one layer
