@@ -91,6 +91,55 @@ TEST(TrackExtension, PrefersTheHitOnTheHelixToOneBesideIt) {
   EXPECT_FALSE(ev.holds(t, 100));
 }
 
+/// The helix without its hit on layer 4 (id 5: the particle crossed no
+/// module there) and with a hit `offset` [mm] beside it (id 100, a
+/// neighbour's).
+std::vector<Hit> gapWithNeighbour(const Detector& det, double offset) {
+  std::vector<Hit> hits = helix(det);
+  hits[4] = test::shiftedHit(det, 4, hits[4].position, offset, 100);
+  return hits;
+}
+
+TEST(TrackExtension, RefusesAHitFarBeyondTheTrackFitQuality) {
+  // With a chi2_cut so loose that the neighbour's hit passes it (the rise
+  // of chi2/ndf that one hit causes on a long track), only the hit chi2
+  // cut relative to the track's fit quality refuses it, and the extension
+  // goes on to the helix's hits beyond the gap.
+  const Detector det = test::barrelDetector();
+  FinderConfig cfg = test::oneBuildStep();
+  cfg.steps[0].chi2Cut = 1e5;
+  {
+    test::Event ev(det, gapWithNeighbour(det, 0.2), cfg);
+    const std::uint32_t t = ev.addTrack({1, 2, 3, 4});
+    TrackExtension(extensionConfig(ev.cfg)).run(ev.state, ev.pool, ev.stats, t);
+    EXPECT_TRUE(ev.holds(t, 100)) << "the cut is off by default";
+  }
+  cfg.extensionHitChi2Ratio = 30.0;
+  cfg.extensionHitChi2Floor = 100.0;
+  test::Event ev(det, gapWithNeighbour(det, 0.2), cfg);
+  const std::uint32_t t = ev.addTrack({1, 2, 3, 4});
+  TrackExtension(extensionConfig(ev.cfg)).run(ev.state, ev.pool, ev.stats, t);
+  EXPECT_EQ(ev.ids(t), (Ids{1, 2, 3, 4, 6, 7, 8}));
+  EXPECT_EQ(ev.state.used[ev.index(100)], 0);
+}
+
+TEST(ExtensionCuts, HitChi2CutFollowsTheTrackFitQuality) {
+  ExtensionCuts cuts;
+  ConformalFitResult uv;
+  SzFitResult sz;
+  uv.chi2 = 40.0;
+  uv.ndf = 4;
+  sz.chi2 = 60.0;
+  sz.ndf = 6;
+  EXPECT_EQ(cuts.maxHitChi2(uv, sz), std::numeric_limits<double>::infinity());
+  cuts.hitChi2Ratio = 30.0;
+  cuts.hitChi2Floor = 100.0;
+  EXPECT_DOUBLE_EQ(cuts.maxHitChi2(uv, sz), 300.0);  // 30 x 100 / 10
+  uv.chi2 = 1.0;
+  sz.chi2 = 1.0;
+  EXPECT_DOUBLE_EQ(cuts.maxHitChi2(uv, sz), 100.0);  // the floor
+}
+
 TEST(TrackExtension, GoesOutwardsOnly) {
   const Detector det = test::barrelDetector();
   test::Event ev(det, helix(det), test::oneBuildStep());
@@ -194,6 +243,8 @@ TEST(ExtensionConfig, FromStepTakesTheStepAndFinderSettings) {
   cfg.maxWindowHits = 17;
   cfg.extensionLookahead = 1;
   cfg.scatteringAllowance = false;
+  cfg.extensionHitChi2Ratio = 25.0;
+  cfg.extensionHitChi2Floor = 60.0;
   cfg.steps[0].chi2PtScale = 2.5;
   const TrackExtension::Config c = extensionConfig(cfg);
   EXPECT_DOUBLE_EQ(c.cuts.maxCellAngle, 0.05);
@@ -203,6 +254,8 @@ TEST(ExtensionConfig, FromStepTakesTheStepAndFinderSettings) {
   EXPECT_DOUBLE_EQ(c.cuts.phiWindow, 0.07);
   EXPECT_EQ(c.cuts.maxWindowHits, 17u);
   EXPECT_EQ(c.cuts.lookahead, 1);
+  EXPECT_DOUBLE_EQ(c.cuts.hitChi2Ratio, 25.0);
+  EXPECT_DOUBLE_EQ(c.cuts.hitChi2Floor, 60.0);
   EXPECT_FALSE(c.scatteringAllowance);
   // The pT scaling of the step's cut (one formula, scaledChi2Cut).
   for (double pt : {0.0, 1e-4, 0.5, 1.25, 2.4999, 2.5, 10.0}) {
@@ -256,6 +309,14 @@ TEST(ExtensionConfig, RejectsBadValuesNamingTheKey) {
   expectRejected(
       [&] { CatchAllExtension({bad([](auto& c) { c.maxWindowHits = 0; })}); },
       "max_window_hits");
+  expectRejected(
+      [&] { CatchAllExtension({bad([](auto& c) { c.hitChi2Ratio = -1.0; })}); },
+      "extension_hit_chi2_ratio");
+  expectRejected(
+      [&] {
+        TrackExtension({bad([](auto& c) { c.hitChi2Floor = 0.0; }), true});
+      },
+      "extension_hit_chi2_floor");
   expectRejected(
       [&] { CatchAllExtension({bad([](auto& c) { c.lookahead = 6; })}); },
       "extension_lookahead");

@@ -65,6 +65,11 @@ TEST(TrackmlChain, ShippedChainSettings) {
                  "chain.toml", detector);
   EXPECT_FALSE(off.inwardScatteringAllowance);
   EXPECT_TRUE(off.scatteringAllowance);
+  // The extensions' hit chi2 cut, relative to the track's chi2/ndf (off
+  // unless a chain sets it).
+  EXPECT_DOUBLE_EQ(c.extensionHitChi2Ratio, 30.0);
+  EXPECT_DOUBLE_EQ(c.extensionHitChi2Floor, 100.0);
+  EXPECT_DOUBLE_EQ(off.extensionHitChi2Ratio, 0.0);
   // The displaced step last: real-space helices seeded in the pixels, cut
   // against random helices through noise (d0, pT, no missed layer).
   const FindingStep& helix = c.steps[6];

@@ -179,6 +179,10 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         f.getInt("extension_lookahead", cfg.extensionLookahead,
                  Range::closed(std::numeric_limits<int>::min(),
                                std::numeric_limits<int>::max())));
+    cfg.extensionHitChi2Ratio =
+        quantity(f, "extension_hit_chi2_ratio", 1.0, cfg.extensionHitChi2Ratio);
+    cfg.extensionHitChi2Floor =
+        quantity(f, "extension_hit_chi2_floor", 1.0, cfg.extensionHitChi2Floor);
     cfg.legacyFourTesla = f.getBool("legacy_four_tesla", false);
     cfg.finalHoleFilling =
         f.getBool("final_hole_filling", cfg.finalHoleFilling);

@@ -232,6 +232,7 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
   // Arc length of the end being extended (0 for the first hit).
   const double sLast = m_inward ? 0.0 : sz.lastS;
   const double chi2Cut = m_cuts.chi2CutAt(uv.pt(m_state.bzForPt));
+  const double maxHitChi2 = m_cuts.maxHitChi2(uv, sz);
   bool predicted = false;
   // Arc length of the nearest layer with compatible hits so far, as a
   // distance from the end being extended.
@@ -309,10 +310,6 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
             LayerCrossingSearch::increase(sz.chi2, sz.ndf, dSz) > chi2Cut) {
           continue;
         }
-        if (dist < firstS - 1e-6) {
-          firstS = dist;
-          out.clear();
-        }
         // Candidates are ranked with the scattering in the last layer in
         // their variances even where the cut above leaves it out: below a
         // few GeV it moves the track by more than the hits' errors, so
@@ -326,6 +323,16 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
           rankUv = uv.deltaChi2(m_hits, h, rank.uv);
           rankSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h] + rank.z,
                                 m_hits.varRxy[h]);
+        }
+        // A hit far beyond the track's own fit quality is another
+        // particle's, however little it raises chi2/ndf of a long track;
+        // refused, it leaves the next layer to be searched.
+        if (rankUv + rankSz > maxHitChi2) {
+          continue;
+        }
+        if (dist < firstS - 1e-6) {
+          firstS = dist;
+          out.clear();
         }
         out.push_back({h, p.s, rankUv + rankSz, dUv});
       }
@@ -349,7 +356,19 @@ ExtensionCuts ExtensionCuts::fromStep(const FindingStep& step,
   c.phiWindow = finder.extensionPhiWindow;
   c.maxWindowHits = finder.maxWindowHits;
   c.lookahead = finder.extensionLookahead;
+  c.hitChi2Ratio = finder.extensionHitChi2Ratio;
+  c.hitChi2Floor = finder.extensionHitChi2Floor;
   return c;
+}
+
+double ExtensionCuts::maxHitChi2(const ConformalFitResult& uv,
+                                 const SzFitResult& sz) const {
+  if (!(hitChi2Ratio > 0.0)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const int ndf = uv.ndf + sz.ndf;
+  const double perDof = ndf > 0 ? (uv.chi2 + sz.chi2) / ndf : 0.0;
+  return std::max(hitChi2Floor, hitChi2Ratio * perDof);
 }
 
 void ExtensionCuts::validate(std::string_view unit) const {
@@ -377,6 +396,14 @@ void ExtensionCuts::validate(std::string_view unit) const {
   if (maxWindowHits < 1) {
     throwBadKey(unit, "max_window_hits", "must be at least 1",
                 static_cast<double>(maxWindowHits));
+  }
+  if (!(hitChi2Ratio >= 0.0 && hitChi2Ratio <= 1e6)) {
+    throwBadKey(unit, "extension_hit_chi2_ratio", "must be in [0, 1e6]",
+                hitChi2Ratio);
+  }
+  if (!(hitChi2Floor > 0.0 && hitChi2Floor <= 1e6)) {
+    throwBadKey(unit, "extension_hit_chi2_floor", "must be in (0, 1e6]",
+                hitChi2Floor);
   }
   if (lookahead < 0 || lookahead > kMaxLookahead) {
     throwBadKey(unit, "extension_lookahead", "must be in [0, 5]",

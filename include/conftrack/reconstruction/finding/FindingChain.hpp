@@ -210,6 +210,19 @@ struct FinderConfig {
   /// Layers of look-ahead when several hits of a layer are compatible
   /// with a track being extended (0: upstream's greedy choice).
   int extensionLookahead = 2;
+  /// Extensions (outward and inward): a hit whose chi2 to the track (both
+  /// projections, with the allowance for multiple scattering in the layer
+  /// before it, as the candidates are ranked) exceeds this many times the
+  /// track's chi2 per degree of freedom, and extensionHitChi2Floor, is no
+  /// candidate (0: off). The chi2_cut of a step bounds the increase of
+  /// chi2/ndf, which a long track meets even with one hit at thousands
+  /// (TrackML: the hit of a neighbour where the particle crossed no
+  /// module, after which the fit misses its own next hits). A conftrack
+  /// addition (issue 15).
+  double extensionHitChi2Ratio = 0.0;
+  /// The smallest cut of extensionHitChi2Ratio: tracks that fit their hits
+  /// well still take hits up to this chi2.
+  double extensionHitChi2Floor = 100.0;
   /// Use upstream's hard-coded 4 T in the pT estimate (for comparisons
   /// only; wrong for CLD).
   bool legacyFourTesla = false;

@@ -39,7 +39,15 @@ struct ExtensionCuts {
   /// Layers of look-ahead when several hits of a layer are compatible
   /// (finder key extension_lookahead; 0: the greedy choice).
   int lookahead = 2;
+  /// A candidate's chi2 (as ranked) must not exceed this many times the
+  /// track's chi2/ndf, or hitChi2Floor if larger (finder keys
+  /// extension_hit_chi2_ratio, 0: off, and extension_hit_chi2_floor).
+  double hitChi2Ratio = 0.0;
+  double hitChi2Floor = 100.0;
 
+  /// The largest chi2 of a candidate hit (as ranked) on a track with these
+  /// fits; infinite when the cut is off.
+  double maxHitChi2(const ConformalFitResult& uv, const SzFitResult& sz) const;
   /// The chi2 cut for a track of transverse momentum `pt` [GeV].
   double chi2CutAt(double pt) const {
     return scaledChi2Cut(chi2Cut, chi2PtScale, pt);
