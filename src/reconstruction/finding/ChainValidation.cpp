@@ -142,6 +142,9 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
               {"max_d0_mm", s.maxD0, mm, Range::positive()},
               {"max_missed_layers", static_cast<double>(s.maxMissedLayers), one,
                Range::closed(0, 10)},
+              {"continue_missed_layers",
+               static_cast<double>(s.continueMissedLayers), one,
+               Range::closed(0, 10)},
           },
           key)) {
     return problem(key, *what);

@@ -106,6 +106,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
   s.minPt = quantity(t, "min_pt_GeV", GeV, s.minPt);
   s.maxD0 = quantity(t, "max_d0_mm", mm, s.maxD0);
   s.maxMissedLayers = count(t, "max_missed_layers", s.maxMissedLayers);
+  s.continueMissedLayers =
+      count(t, "continue_missed_layers", s.continueMissedLayers);
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);

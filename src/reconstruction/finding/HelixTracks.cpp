@@ -29,7 +29,8 @@
 //   (Highland) and the extrapolation error. At most maxMissedLayers
 //   crossings well inside a layer pass without a hit.
 // - Of the candidates of one seed hit with at least minHits hits, the
-//   longest (then lowest chi2 per hit) is kept and claims its hits at once;
+//   longest (then lowest chi2 per hit) is kept, followed on with up to
+//   continueMissedLayers crossings without a hit, and claims its hits at once;
 //   seed hits are taken innermost first, so the result does not depend on
 //   the input order.
 // - Once the triplets of the step exceed FinderConfig::maxCellsPerHit per
@@ -78,7 +79,9 @@ class HelixBuilder {
         m_stats(stats),
         m_minRho(step.minPt /
                  (constants::kPtPerTeslaMm * std::abs(state.bzForPt))),
-        m_follower(state, step, pool) {
+        m_follower(state, step, pool),
+        m_continueStep(continued(step)),
+        m_continuer(state, m_continueStep, pool) {
     m_maxTheta0.resize(m_layers.size());
     for (std::uint32_t a : m_pool.layers()) {
       m_maxTheta0[a] = m_follower.theta0(a, step.minPt, 0.0);
@@ -121,11 +124,23 @@ class HelixBuilder {
       if (best.hits.size() < m_step.minHits) {
         continue;
       }
+      // Followed on past gaps (continue_missed_layers): it already is a
+      // track, and only its further hits are at stake.
+      if (m_continueStep.maxMissedLayers > m_step.maxMissedLayers) {
+        m_continuer.follow(best);
+      }
       accept(best);
     }
   }
 
  private:
+  /// The step as the continuation of accepted candidates follows it.
+  static FindingStep continued(const FindingStep& step) {
+    FindingStep s = step;
+    s.maxMissedLayers =
+        std::max(step.maxMissedLayers, step.continueMissedLayers);
+    return s;
+  }
   bool seedAllowed(ConfIndex h) const {
     const auto& seeds = m_step.seedCollections;
     return seeds.empty() || std::find(seeds.begin(), seeds.end(),
@@ -481,6 +496,8 @@ class HelixBuilder {
   StepStats& m_stats;
   double m_minRho;
   HelixFollower m_follower;
+  FindingStep m_continueStep;
+  HelixFollower m_continuer;
   std::vector<ConfIndex> m_window;
   std::vector<Triplet> m_triplets;
   std::vector<std::pair<double, std::uint32_t>> m_layerSteps;

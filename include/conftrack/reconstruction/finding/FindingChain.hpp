@@ -128,6 +128,13 @@ struct FindingStep {
   /// Helix steps: at most this many predicted layer crossings without a
   /// compatible hit between two hits of a track.
   std::uint32_t maxMissedLayers = 1;
+  /// Helix steps: a candidate that reached minHits within maxMissedLayers
+  /// is followed on, before it is accepted, allowing up to this many
+  /// crossings without a hit between two hits (0 or at most
+  /// maxMissedLayers: no continuation). Tight building keeps random
+  /// triplets from growing into fakes; the continuation takes the hits
+  /// that a track which is already real leaves beyond a gap.
+  std::uint32_t continueMissedLayers = 0;
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).
