@@ -2,13 +2,16 @@
 
 /// @file TrackmlSample.hpp
 /// Test helpers shared by the TrackML reconstruction tests: the particles
-/// of Kaggle event 1001 and the module-level simulation of the TrackML
-/// detector as `conftrack simulate-trackml` runs it.
+/// of Kaggle event 1001, the module-level simulation of the TrackML
+/// detector as `conftrack simulate-trackml` runs it, and a count of the
+/// hits that found tracks hold of their own particles.
 
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Event.hpp"
+#include "conftrack/evaluation/TruthMatching.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/TrackmlEvents.hpp"
 #include "conftrack/simulation/generators/HepMCText.hpp"
@@ -87,6 +90,22 @@ inline Event simulateTrackml(
   simConfig.luminousRegion = region;
   return TrackmlEventSimulation(simDetector, sensors, simConfig)
       .simulate(1001, particles);
+}
+
+/// Hits of their majority particle on the found tracks, summed (tracks
+/// whose majority is noise count none), by the evaluation's matching.
+inline std::size_t majorityHits(const Event& event,
+                                const FindingResult& found) {
+  std::vector<std::vector<HitIndex>> lists;
+  lists.reserve(found.tracks.size());
+  for (const FoundTrack& t : found.tracks) {
+    lists.push_back(t.hits);
+  }
+  std::size_t own = 0;
+  for (const TrackMatch& m : matchTracks(event, lists).tracks) {
+    own += m.particle != kInvalidIndex ? m.nMajority : 0;
+  }
+  return own;
 }
 
 }  // namespace conftrack::test

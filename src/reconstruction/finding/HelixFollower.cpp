@@ -60,7 +60,8 @@ HelixFollower::HelixFollower(const FinderState& state, const FindingStep& step,
   }
 }
 
-void HelixFollower::follow(HelixPath& p) {
+void HelixFollower::follow(HelixPath& p, std::uint32_t maxMissedLayers) {
+  m_maxMissedLayers = maxMissedLayers;
   while (true) {
     TransverseCircle c;
     SzState sz;
@@ -238,8 +239,7 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     // nominal surface next to that hit: the second sensor of an overlap
     // is optional (addOverlapPartners takes its hit with the first),
     // not a missed layer.
-    if (x.inside && !onLayerOf(x.layer, p) &&
-        ++missed > m_step.maxMissedLayers) {
+    if (x.inside && !onLayerOf(x.layer, p) && ++missed > m_maxMissedLayers) {
       return false;
     }
   }

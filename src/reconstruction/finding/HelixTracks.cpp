@@ -79,9 +79,7 @@ class HelixBuilder {
         m_stats(stats),
         m_minRho(step.minPt /
                  (constants::kPtPerTeslaMm * std::abs(state.bzForPt))),
-        m_follower(state, step, pool),
-        m_continueStep(continued(step)),
-        m_continuer(state, m_continueStep, pool) {
+        m_follower(state, step, pool) {
     m_maxTheta0.resize(m_layers.size());
     for (std::uint32_t a : m_pool.layers()) {
       m_maxTheta0[a] = m_follower.theta0(a, step.minPt, 0.0);
@@ -126,21 +124,14 @@ class HelixBuilder {
       }
       // Followed on past gaps (continue_missed_layers): it already is a
       // track, and only its further hits are at stake.
-      if (m_continueStep.maxMissedLayers > m_step.maxMissedLayers) {
-        m_continuer.follow(best);
+      if (m_step.continueMissedLayers > m_step.maxMissedLayers) {
+        m_follower.follow(best, m_step.continueMissedLayers);
       }
       accept(best);
     }
   }
 
  private:
-  /// The step as the continuation of accepted candidates follows it.
-  static FindingStep continued(const FindingStep& step) {
-    FindingStep s = step;
-    s.maxMissedLayers =
-        std::max(step.maxMissedLayers, step.continueMissedLayers);
-    return s;
-  }
   bool seedAllowed(ConfIndex h) const {
     const auto& seeds = m_step.seedCollections;
     return seeds.empty() || std::find(seeds.begin(), seeds.end(),
@@ -433,7 +424,7 @@ class HelixBuilder {
       }
       ++followed;
       HelixPath& path = tr.path;
-      m_follower.follow(path);
+      m_follower.follow(path, m_step.maxMissedLayers);
       m_follower.addSeedPartners(path);
       ++m_stats.paths;
       if (path.hits.size() >= m_step.minHits) {
@@ -496,8 +487,6 @@ class HelixBuilder {
   StepStats& m_stats;
   double m_minRho;
   HelixFollower m_follower;
-  FindingStep m_continueStep;
-  HelixFollower m_continuer;
   std::vector<ConfIndex> m_window;
   std::vector<Triplet> m_triplets;
   std::vector<std::pair<double, std::uint32_t>> m_layerSteps;

@@ -27,7 +27,7 @@ namespace conftrack::detail {
 /// hit of lowest chi2 is taken with its overlap partners on other sensors
 /// of the layer. Residuals are taken at the hit, since a layer's sensors
 /// lie up to FinderConfig::overlapMaxGap from its nominal surface. The
-/// path ends at the first crossing past FindingStep::maxMissedLayers
+/// path ends at the first crossing past follow()'s maxMissedLayers
 /// crossings without a hit (crossings of layers it already holds do not
 /// count).
 class HelixFollower {
@@ -37,8 +37,11 @@ class HelixFollower {
   HelixFollower(const FinderState& state, const FindingStep& step,
                 const HitPool& pool);
 
-  /// Extends the path outwards hit by hit (see the class comment).
-  void follow(HelixPath& p);
+  /// Extends the path outwards hit by hit (see the class comment), ending
+  /// it past `maxMissedLayers` crossings without a hit (the step's
+  /// maxMissedLayers while building, its continueMissedLayers when an
+  /// accepted candidate is followed on).
+  void follow(HelixPath& p, std::uint32_t maxMissedLayers);
 
   /// Adds the overlap partners of the path's seed hits (its first three),
   /// which follow() does not see: on other sensors of a seed hit's layer,
@@ -87,7 +90,7 @@ class HelixFollower {
   /// p are recomputed on c) and fills m_layerHits with the compatible
   /// unused hits of the first predicted crossing that has any; false if
   /// the path ends first (no circle, the half-turn, or more than
-  /// maxMissedLayers crossings without a hit).
+  /// m_maxMissedLayers crossings without a hit).
   bool nextCrossing(HelixPath& p, TransverseCircle& c, SzState& sz);
 
   /// The hit of m_layerHits to take (m_layerHits is left sorted by chi2):
@@ -132,6 +135,8 @@ class HelixFollower {
   const ConformalHits& m_hits;
   const std::vector<SensitiveLayer>& m_layers;
   const FindingStep& m_step;
+  /// The missed-crossing limit of the current follow().
+  std::uint32_t m_maxMissedLayers = 0;
   const HitPool& m_pool;
   std::vector<ConfIndex> m_window;
   std::vector<Crossing> m_crossings;
