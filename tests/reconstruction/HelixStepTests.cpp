@@ -71,6 +71,19 @@ TEST(HelixStep, KeysAreValidated) {
   EXPECT_DOUBLE_EQ(ok.steps[0].maxD0, 600.0);
   EXPECT_EQ(ok.steps[0].maxMissedLayers, 1u);
   EXPECT_EQ(ok.steps[0].continueMissedLayers, 0u);
+  EXPECT_EQ(ok.steps[0].continueChi2Cut, 0.0);
+  // The continuation's chi2 cut: 0 (the step's) or at least chi2_cut.
+  EXPECT_EQ(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "continue_chi2_cut = 0.0\n"),
+            "");
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "continue_chi2_cut = -1.0\n")
+                .find("continue_chi2_cut"),
+            std::string::npos);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "continue_chi2_cut = 5.0\n")  // chi2_cut 12
+                .find("at least chi2_cut"),
+            std::string::npos);
   EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
                        "continue_missed_layers = 11\n")
                 .find("continue_missed_layers"),

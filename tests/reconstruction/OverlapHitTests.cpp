@@ -5,8 +5,11 @@
 /// further along the layer's normal than two sensors of one layer can be,
 /// stay off it.
 
+#include "conftrack/core/Units.hpp"
+#include "conftrack/geometry/MaterialInteractions.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
+#include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
 
 #include <gtest/gtest.h>
 
@@ -177,6 +180,74 @@ TEST(OverlapHits, IncompatibleHitsStayOff) {
     ASSERT_FALSE(r.tracks.empty());
     EXPECT_TRUE(holds(r.tracks[0], hits, kOverlapId));
   }
+}
+
+TEST(OverlapHits, ScatteringBetweenTheTwoSensorsFollowsHighland) {
+  // A track of 0.3 GeV and tanLambda 2 crossing two sensors of 1 % X0
+  // 9 mm apart: its path through the first is sqrt(5) times the
+  // thickness, and the deflection there moves it by theta0 * 9 mm at the
+  // second.
+  const Detector det = test::barrelDetector(0.01);
+  const SensitiveLayer& layer = det.layers()[kLayer];
+  const double pt = 0.3;
+  const double tanLambda = 2.0;
+  const double p = pt * std::sqrt(5.0);
+  const double theta0 = highlandTheta0(p, 1.0, 1.0, 0.01 * std::sqrt(5.0));
+  EXPECT_NEAR(theta0, 0.0026, 0.0001);  // 13.6 MeV / p sqrt(x) (1 + ...)
+  EXPECT_NEAR(detail::overlapScatteringVariance(layer, pt, tanLambda, 9.0),
+              (theta0 * 9.0) * (theta0 * 9.0), 1e-12);
+  // No material, no momentum: nothing to add.
+  EXPECT_EQ(detail::overlapScatteringVariance(
+                test::barrelDetector(0.0).layers()[kLayer], pt, 2.0, 9.0),
+            0.0);
+  EXPECT_EQ(detail::overlapScatteringVariance(layer, 0.0, 2.0, 9.0), 0.0);
+}
+
+TEST(OverlapHits, SecondHitMovedByScatteringIsTaken) {
+  // A steep track of 0.24 GeV (radius 200 mm in 4 T, tanLambda 2) through
+  // sensors of 1 % X0 with 5 um resolution; its second sensor on layer
+  // kLayer lies 4 mm further out, 9-10 mm along the track, and its hit
+  // there is moved across the track by twice the scattering in the first
+  // sensor (0.03 mm of a 0.015 mm sigma). Against the two hits' errors
+  // alone its pair chi2 would be 35, beyond the cut of 20; with the
+  // scattering it is about 4.
+  constexpr double kRadius = 200.0;
+  constexpr double kSteep = 2.0;
+  const Detector det = test::barrelDetector(0.01);
+  std::vector<Hit> hits = test::helixHits(det, kRadius, kPhi0, 1, kSteep, 1);
+  const Hit& first = hits[kLayer];
+  const double r = det.layers()[kLayer].r + 4.0;
+  // The helix at radius r, as test::helixHits draws it (positive charge
+  // turns clockwise, through the origin).
+  const double omega = 1.0 / kRadius;
+  const double s = 2.0 * std::asin(r * omega / 2.0) / omega;
+  const Vector3 at((std::sin(kPhi0) - std::sin(kPhi0 - omega * s)) / omega,
+                   -(std::cos(kPhi0) - std::cos(kPhi0 - omega * s)) / omega,
+                   s * kSteep);
+  const double distance = (at - first.position).norm();
+  ASSERT_GT(distance, 8.0);
+  ASSERT_LT(distance, 11.0);
+  const double pt = constants::kPtPerTeslaMm * 4.0 * kRadius;
+  const double sigmaScatter = std::sqrt(detail::overlapScatteringVariance(
+      det.layers()[kLayer], pt, kSteep, distance));
+  const double shift = 2.0 * sigmaScatter;
+  const double sigmaHits = std::sqrt(2.0) * 0.005;
+  ASSERT_GT((shift / sigmaHits) * (shift / sigmaHits), 20.0);
+  Hit second = test::barrelHit(det, kLayer, at.x(), at.y(), at.z(), kOverlapId);
+  second.position += shift * second.uAxis;
+  second.detId.module = first.detId.module + 1;
+  hits.push_back(second);
+  const FindingResult found =
+      ConformalTrackFinder(det, {oneStep(true)}).run(hits);
+  ASSERT_EQ(found.tracks.size(), 1u);
+  EXPECT_TRUE(holds(found.tracks[0], hits, kOverlapId));
+  EXPECT_EQ(found.tracks[0].hits.size(), 9u);
+  // Moved by ten times the scattering instead, it stays off.
+  hits.back().position += 8.0 * sigmaScatter * second.uAxis;
+  const FindingResult far =
+      ConformalTrackFinder(det, {oneStep(true)}).run(hits);
+  ASSERT_EQ(far.tracks.size(), 1u);
+  EXPECT_FALSE(holds(far.tracks[0], hits, kOverlapId));
 }
 
 TEST(OverlapHits, CutsAreValidated) {

@@ -13,8 +13,10 @@
 
 namespace conftrack::test {
 
-/// Eight barrel layers (one subdetector "Barrel") and a disk layer set.
-inline Detector barrelDetector() {
+/// Eight barrel layers (one subdetector "Barrel") and a disk layer set,
+/// each of xOverX0 radiation lengths.
+inline Detector barrelDetector(double xOverX0 = 0.001) {
+  const std::string material = "x_over_x0 = " + std::to_string(xOverX0) + "\n";
   std::string text = R"([detector]
 name = "Synthetic"
 bz_T = 4.0
@@ -26,9 +28,9 @@ kind = "barrel"
 )";
   for (double r : {30.0, 40.0, 50.0, 65.0, 80.0, 100.0, 120.0, 150.0}) {
     text += "[[subdetector.layer]]\nname = \"L" + std::to_string(int(r)) +
-            "\"\nr_mm = " + std::to_string(r) +
-            "\nhalf_z_mm = 500.0\nx_over_x0 = 0.001\nsigma_rphi_um = 5.0\n"
-            "sigma_z_um = 5.0\nn_phi_modules = 64\n";
+            "\"\nr_mm = " + std::to_string(r) + "\nhalf_z_mm = 500.0\n" +
+            material +
+            "sigma_rphi_um = 5.0\nsigma_z_um = 5.0\nn_phi_modules = 64\n";
   }
   text += R"([[subdetector]]
 name = "Endcap"
@@ -38,8 +40,8 @@ name = "D0"
 z_mm = 600.0
 r_min_mm = 10.0
 r_max_mm = 300.0
-x_over_x0 = 0.001
-sigma_rphi_um = 5.0
+)" + material +
+          R"(sigma_rphi_um = 5.0
 sigma_r_um = 50.0
 )";
   return parseDetector(text, "synthetic.toml");

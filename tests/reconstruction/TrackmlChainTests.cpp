@@ -80,6 +80,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(helix.maxSeedLength, 150.0);
   EXPECT_EQ(helix.maxMissedLayers, 0u);
   EXPECT_EQ(helix.continueMissedLayers, 1u);
+  EXPECT_DOUBLE_EQ(helix.continueChi2Cut, 27.0);
   EXPECT_EQ(helix.minHits, 6u);
   // ... and the displaced tracks beyond the pixels, seeded in the
   // short-strip barrel with a tighter chi2 (strip z is coarse) and
@@ -94,6 +95,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(strips.chi2Cut, 6.0);
   EXPECT_DOUBLE_EQ(strips.minPt, 0.2);
   EXPECT_EQ(strips.continueMissedLayers, 1u);
+  EXPECT_DOUBLE_EQ(strips.continueChi2Cut, 18.0);
   // The low-momentum build (step 4) and its extension (step 5).
   EXPECT_TRUE(c.steps[4].build && c.steps[4].minHits == 6 &&
               c.steps[4].chi2Cut == 3000.0);

@@ -46,6 +46,22 @@ namespace conftrack::detail {
 namespace {
 /// Dead (clone) tracks tolerated in the list before it is compacted.
 constexpr std::size_t kCompactAfter = 4096;
+
+/// Releases the hits that the completion (inward extension, hole filling)
+/// of the tracks the last accepted candidate replaced as clones had
+/// claimed, where no live track holds them. Otherwise they stay used but on no
+/// track: t, built from nearly the same hits, cannot take them, nor can the
+/// overlap search after the step (on TrackML, 85 such hits per event after the
+/// first step, most of them the second hit of a layer that t crosses).
+void releaseHitsOfClones(FinderState& state) {
+  for (std::uint32_t k : state.clones.killed()) {
+    for (ConfIndex h : state.tracks[k].hits) {
+      if (state.used[h] != 0 && !state.clones.held(h, state.tracks)) {
+        state.used[h] = 0;
+      }
+    }
+  }
+}
 }  // namespace
 
 void buildTracks(FinderState& state, const FindingStep& step,
@@ -101,6 +117,7 @@ void buildTracks(FinderState& state, const FindingStep& step,
       if (state.clones.offer(state.tracks, std::move(c),
                              state.config.cloneSharedHits)) {
         auto t = static_cast<std::uint32_t>(state.tracks.size() - 1);
+        releaseHitsOfClones(state);
         completeTrack(state, step, pool, stats, t);
         for (ConfIndex h : state.tracks[t].hits) {
           onNewTrack[h] = 1;

@@ -145,6 +145,9 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
               {"continue_missed_layers",
                static_cast<double>(s.continueMissedLayers), one,
                Range::closed(0, 10)},
+              // 0: the step's chi2_cut.
+              {"continue_chi2_cut", s.continueChi2Cut, one,
+               Range{0.0, kInf, true, false}},
           },
           key)) {
     return problem(key, *what);
@@ -153,6 +156,10 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
     return problem("max_seed_length_mm",
                    "required by the \"helix\" action (it bounds the seed "
                    "search)");
+  }
+  if (s.continueChi2Cut > 0.0 && s.continueChi2Cut < s.chi2Cut) {
+    return problem("continue_chi2_cut",
+                   "must be 0 (the step's chi2_cut) or at least chi2_cut");
   }
   if (s.helix && !(s.minPt > 0.0)) {
     return problem("min_pt_GeV", "required by the \"helix\" action (> 0)");

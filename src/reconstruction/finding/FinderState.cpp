@@ -51,25 +51,32 @@ bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
       }
     }
   }
-  std::vector<std::uint32_t> conflicts;
+  m_killed.clear();
   for (const auto& [t, n] : shared) {
     if (n >= minShared) {
       if (!betterCandidate(candidate, tracks[t])) {
+        m_killed.clear();
         return false;
       }
-      conflicts.push_back(t);
+      m_killed.push_back(t);
     }
   }
-  for (std::uint32_t t : conflicts) {
+  for (std::uint32_t t : m_killed) {
     tracks[t].alive = false;
   }
-  m_dead += conflicts.size();
+  m_dead += m_killed.size();
   auto index = static_cast<std::uint32_t>(tracks.size());
   for (ConfIndex h : candidate.hits) {
     m_hitTracks[h].push_back(index);
   }
   tracks.push_back(std::move(candidate));
   return true;
+}
+
+bool CloneIndex::held(ConfIndex h,
+                      const std::vector<TrackCandidate>& tracks) const {
+  return std::any_of(m_hitTracks[h].begin(), m_hitTracks[h].end(),
+                     [&](std::uint32_t t) { return tracks[t].alive; });
 }
 
 void CloneIndex::rebuild(const std::vector<TrackCandidate>& tracks) {

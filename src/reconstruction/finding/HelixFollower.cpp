@@ -60,8 +60,8 @@ HelixFollower::HelixFollower(const FinderState& state, const FindingStep& step,
   }
 }
 
-void HelixFollower::follow(HelixPath& p, std::uint32_t maxMissedLayers) {
-  m_maxMissedLayers = maxMissedLayers;
+void HelixFollower::follow(HelixPath& p, const Limits& limits) {
+  m_limits = limits;
   while (true) {
     TransverseCircle c;
     SzState sz;
@@ -69,7 +69,7 @@ void HelixFollower::follow(HelixPath& p, std::uint32_t maxMissedLayers) {
       return;
     }
     const ConfIndex chosen = choose(p);
-    addOverlapPartners(chosen, sz.t);
+    addOverlapPartners(chosen, sz.t, ptOf(c));
     // The chosen hit and its overlap partners, in the order of the
     // track.
     std::sort(m_taken.begin(), m_taken.end(),
@@ -110,7 +110,7 @@ ConfIndex HelixFollower::choose(const HelixPath& p) {
     m_trial.s.push_back(p.s.back() + lh.arc);
     TransverseCircle c;
     SzState sz;
-    double next = m_step.chi2Cut;
+    double next = m_limits.chi2Cut;
     if (nextCrossing(m_trial, c, sz)) {
       for (const LayerHit& n : m_layerHits) {
         next = std::min(next, n.chi2);
@@ -227,7 +227,7 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
       const double rV =
           l.isDisk() ? dz * radialT / std::max(std::abs(sz.t), 0.1) : dz;
       const double chi2 = rPhi * rPhi / varPhi + rV * rV / varV;
-      if (chi2 > m_step.chi2Cut) {
+      if (chi2 > m_limits.chi2Cut) {
         continue;
       }
       m_layerHits.push_back({h, chi2, arc, rPhi, dz});
@@ -239,7 +239,8 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     // nominal surface next to that hit: the second sensor of an overlap
     // is optional (addOverlapPartners takes its hit with the first),
     // not a missed layer.
-    if (x.inside && !onLayerOf(x.layer, p) && ++missed > m_maxMissedLayers) {
+    if (x.inside && !onLayerOf(x.layer, p) &&
+        ++missed > m_limits.maxMissedLayers) {
       return false;
     }
   }
@@ -331,7 +332,7 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
   });
 }
 
-void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
+void HelixFollower::addOverlapPartners(ConfIndex chosen, double t, double pt) {
   m_taken.clear();
   const LayerHit first =
       *std::find_if(m_layerHits.begin(), m_layerHits.end(),
@@ -347,8 +348,8 @@ void HelixFollower::addOverlapPartners(ConfIndex chosen, double t) {
         })) {
       continue;
     }
-    if (pairChi2(chosen, lh.hit, lh.rPhi - first.rPhi, lh.dz - first.dz, t) <=
-        m_state.config.overlapMaxChi2) {
+    if (pairChi2(chosen, lh.hit, lh.rPhi - first.rPhi, lh.dz - first.dz, t,
+                 pt) <= m_state.config.overlapMaxChi2) {
       m_taken.push_back(lh);
     }
   }
@@ -402,7 +403,7 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
       const double dPerp =
           norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho - rPhiA;
       const double dz = m_hits.z[h] - m_hits.z[a] - p.t * arc;
-      const double chi2 = pairChi2(a, h, dPerp, dz, p.t);
+      const double chi2 = pairChi2(a, h, dPerp, dz, p.t, ptOf(c));
       if (chi2 <= m_state.config.overlapMaxChi2) {
         partners.push_back({m_hits.module[h], chi2, h, p.s[k] + arc});
       }
@@ -436,15 +437,19 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
 }
 
 double HelixFollower::pairChi2(ConfIndex a, ConfIndex h, double dPerp,
-                               double dz, double t) const {
+                               double dz, double t, double pt) const {
   const double sigmaA = transverseSigma(a);
   const double sigmaH = transverseSigma(h);
-  const double varPerp =
-      sigmaA * sigmaA + sigmaH * sigmaH + kOverlapFloor * kOverlapFloor;
+  const double scatter = overlapScatteringVariance(
+      m_layers[m_hits.layer[a]], pt, t,
+      std::hypot(m_hits.x[h] - m_hits.x[a], m_hits.y[h] - m_hits.y[a],
+                 m_hits.z[h] - m_hits.z[a]));
+  const double varPerp = sigmaA * sigmaA + sigmaH * sigmaH + scatter +
+                         kOverlapFloor * kOverlapFloor;
   // On disks z is exact and the arc length carries the radial error.
   const double varZ = m_hits.varZ[a] + m_hits.varZ[h] +
                       t * t * (m_hits.varRxy[a] + m_hits.varRxy[h]) +
-                      kOverlapFloor * kOverlapFloor;
+                      scatter * (1.0 + t * t) + kOverlapFloor * kOverlapFloor;
   return dPerp * dPerp / varPerp + dz * dz / varZ;
 }
 

@@ -124,8 +124,12 @@ class HelixBuilder {
       }
       // Followed on past gaps (continue_missed_layers): it already is a
       // track, and only its further hits are at stake.
-      if (m_step.continueMissedLayers > m_step.maxMissedLayers) {
-        m_follower.follow(best, m_step.continueMissedLayers);
+      if (m_step.continueMissedLayers > m_step.maxMissedLayers ||
+          m_step.continueChi2Cut > m_step.chi2Cut) {
+        m_follower.follow(
+            best,
+            {std::max(m_step.maxMissedLayers, m_step.continueMissedLayers),
+             std::max(m_step.chi2Cut, m_step.continueChi2Cut)});
       }
       accept(best);
     }
@@ -424,7 +428,7 @@ class HelixBuilder {
       }
       ++followed;
       HelixPath& path = tr.path;
-      m_follower.follow(path, m_step.maxMissedLayers);
+      m_follower.follow(path, {m_step.maxMissedLayers, m_step.chi2Cut});
       m_follower.addSeedPartners(path);
       ++m_stats.paths;
       if (path.hits.size() >= m_step.minHits) {

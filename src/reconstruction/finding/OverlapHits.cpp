@@ -73,6 +73,13 @@ OverlapHitCollector::OverlapHitCollector(FinderState& state,
   }
 }
 
+double overlapScatteringVariance(const SensitiveLayer& layer, double pt,
+                                 double tanLambda, double distance) {
+  const double theta0 =
+      layerTheta0(layer, pt * std::hypot(1.0, tanLambda), tanLambda);
+  return theta0 * theta0 * distance * distance;
+}
+
 void keepBestPerSensor(std::vector<OverlapCandidate>& candidates) {
   std::sort(candidates.begin(), candidates.end(),
             [](const OverlapCandidate& x, const OverlapCandidate& y) {
@@ -97,13 +104,22 @@ double OverlapHitCollector::pairChi2(const TrackCandidate& track, ConfIndex a,
   double vh = 0.0;
   const double eUv =
       track.uv.residual(m_hits, h, vh) - track.uv.residual(m_hits, a, va);
-  const double varUv = va + vh;
+  double varUv = va + vh;
   double wa = 0.0;
   double wh = 0.0;
   const double eSz =
       track.sz.residual(sh, m_hits.z[h], m_hits.varZ[h], m_hits.varRxy[h], wh) -
       track.sz.residual(sa, m_hits.z[a], m_hits.varZ[a], m_hits.varRxy[a], wa);
-  const double varSz = wa + wh;
+  double varSz = wa + wh;
+  // Scattering in a's sensor moves h across the track.
+  const double tanLambda = track.sz.tanLambda;
+  const double scatter = overlapScatteringVariance(
+      m_state.detector.layers()[m_hits.layer[a]], track.pt, tanLambda,
+      std::hypot(m_hits.x[h] - m_hits.x[a], m_hits.y[h] - m_hits.y[a],
+                 m_hits.z[h] - m_hits.z[a]));
+  const double r2 = std::max(m_hits.radius[a] * m_hits.radius[a], 1.0);
+  varUv += scatter / (r2 * r2);  // conformal: a shift d at radius r is d / r^2
+  varSz += scatter * (1.0 + tanLambda * tanLambda);
   if (!(varUv > 0.0) || !(varSz > 0.0)) {
     return std::numeric_limits<double>::infinity();
   }

@@ -135,6 +135,12 @@ struct FindingStep {
   /// triplets from growing into fakes; the continuation takes the hits
   /// that a track which is already real leaves beyond a gap.
   std::uint32_t continueMissedLayers = 0;
+  /// Helix steps: the chi2 cut per added hit (2 dof) while a candidate is
+  /// followed on (0: chi2Cut). Building keeps the tight cut, against random
+  /// triplets; an accepted track's further hits scatter more than the cut
+  /// allows at low momentum, where the hit errors are small against the
+  /// scattering (the helix filter only knows the last layer's).
+  double continueChi2Cut = 0.0;
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).

@@ -27,9 +27,14 @@ bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b);
 class CloneIndex {
  public:
   explicit CloneIndex(std::size_t nHits) : m_hitTracks(nHits) {}
-  /// Returns true if `candidate` was added to `tracks`.
+  /// Returns true if `candidate` was added to `tracks`; the tracks it
+  /// replaced as clones are then listed by killed().
   bool offer(std::vector<TrackCandidate>& tracks, TrackCandidate candidate,
              std::uint32_t minShared);
+  /// The tracks the last successful offer() killed as clones.
+  const std::vector<std::uint32_t>& killed() const { return m_killed; }
+  /// True if a live track of `tracks` holds hit `h`.
+  bool held(ConfIndex h, const std::vector<TrackCandidate>& tracks) const;
   /// Re-indexes after `tracks` was compacted or reordered.
   void rebuild(const std::vector<TrackCandidate>& tracks);
   /// Registers hit `h` as part of track `t` (extensions).
@@ -39,6 +44,7 @@ class CloneIndex {
 
  private:
   std::vector<std::vector<std::uint32_t>> m_hitTracks;
+  std::vector<std::uint32_t> m_killed;
   std::size_t m_dead = 0;
 };
 

@@ -37,11 +37,18 @@ class HelixFollower {
   HelixFollower(const FinderState& state, const FindingStep& step,
                 const HitPool& pool);
 
-  /// Extends the path outwards hit by hit (see the class comment), ending
-  /// it past `maxMissedLayers` crossings without a hit (the step's
-  /// maxMissedLayers while building, its continueMissedLayers when an
+  /// How far follow() goes: crossings without a hit, and the chi2 cut
+  /// per added hit (the step's maxMissedLayers and chi2Cut while
+  /// building, its continueMissedLayers and continueChi2Cut when an
   /// accepted candidate is followed on).
-  void follow(HelixPath& p, std::uint32_t maxMissedLayers);
+  struct Limits {
+    std::uint32_t maxMissedLayers = 0;
+    double chi2Cut = 0.0;
+  };
+
+  /// Extends the path outwards hit by hit (see the class comment), ending
+  /// it past `limits.maxMissedLayers` crossings without a hit.
+  void follow(HelixPath& p, const Limits& limits);
 
   /// Adds the overlap partners of the path's seed hits (its first three),
   /// which follow() does not see: on other sensors of a seed hit's layer,
@@ -112,14 +119,15 @@ class HelixFollower {
   /// the difference of its residuals and the chosen hit's (the track's own
   /// prediction error, far larger below a few GeV, cancels over the few
   /// mm between them; OverlapHits does the same for conformal tracks).
-  void addOverlapPartners(ConfIndex chosen, double t);
+  void addOverlapPartners(ConfIndex chosen, double t, double pt);
 
   /// chi2 of two hits of one layer crossing on different sensors: the
   /// differences dPerp of their distances from the circle and dz of their
-  /// z residuals (slope t), against both hits' errors and a 0.05 mm
+  /// z residuals (slope t), against both hits' errors, the scattering in
+  /// a's sensor (overlapScatteringVariance, track pT pt) and a 0.05 mm
   /// alignment floor.
-  double pairChi2(ConfIndex a, ConfIndex h, double dPerp, double dz,
-                  double t) const;
+  double pairChi2(ConfIndex a, ConfIndex h, double dPerp, double dz, double t,
+                  double pt) const;
 
   /// A hit's transverse resolution [mm] (its conformal tangential error
   /// scaled back).
@@ -135,8 +143,8 @@ class HelixFollower {
   const ConformalHits& m_hits;
   const std::vector<SensitiveLayer>& m_layers;
   const FindingStep& m_step;
-  /// The missed-crossing limit of the current follow().
-  std::uint32_t m_maxMissedLayers = 0;
+  /// The limits of the current follow().
+  Limits m_limits;
   const HitPool& m_pool;
   std::vector<ConfIndex> m_window;
   std::vector<Crossing> m_crossings;
