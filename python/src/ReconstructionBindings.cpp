@@ -210,6 +210,7 @@ py::list stepRows(const ResultHandle& r) {
     d["extended_hits"] = s.extendedHits;
     d["overlap_hits"] = s.overlapHits;
     d["merged_tracks"] = s.mergedTracks;
+    d["dropped_tracks"] = s.droppedTracks;
     d["hits_used"] = s.hitsUsed;
     d["recovered"] = s.recovered;
     d["cell_cache_flushes"] = s.cellCacheFlushes;

@@ -94,8 +94,10 @@ constexpr std::array<HistogramField, 10> kHistogramFields{{
 struct StepCounter {
   const char* key;
   std::uint64_t StepStats::*member;
+  /// Absent from files written before the counter existed (read as 0).
+  bool optional = false;
 };
-constexpr std::array<StepCounter, 11> kStepCounters{{
+constexpr std::array<StepCounter, 12> kStepCounters{{
     {"seeds", &StepStats::seeds},
     {"cells", &StepStats::cells},
     {"paths", &StepStats::paths},
@@ -104,6 +106,7 @@ constexpr std::array<StepCounter, 11> kStepCounters{{
     {"extended_hits", &StepStats::extendedHits},
     {"overlap_hits", &StepStats::overlapHits},
     {"merged_tracks", &StepStats::mergedTracks},
+    {"dropped_tracks", &StepStats::droppedTracks, true},
     {"hits_used", &StepStats::hitsUsed},
     {"recovered", &StepStats::recovered},
     {"cell_cache_flushes", &StepStats::cellCacheFlushes},
@@ -415,6 +418,9 @@ void readData(const JsonEntry& e, PerformanceData& d) {
     StepStats step;
     step.name = s.text("name");
     for (const StepCounter& c : kStepCounters) {
+      if (c.optional && !s.has(c.key)) {
+        continue;
+      }
       step.*c.member = s.count(c.key, 0, kMaxCount);
     }
     const JsonEntry guards = s.object("guards");

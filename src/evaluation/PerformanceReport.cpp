@@ -291,6 +291,7 @@ Json makeSummaryJson(const RunMetadata& m, const PerformanceSummary& s) {
     st["extended_hits"] = step.extendedHits;
     st["overlap_hits"] = step.overlapHits;
     st["merged_tracks"] = step.mergedTracks;
+    st["dropped_tracks"] = step.droppedTracks;
     st["hits_used"] = step.hitsUsed;
     // (Kept for readers of older summaries: the bites of two guards.)
     st["path_overflows"] = step.guard(Guard::ePathsPerSeed).bites;

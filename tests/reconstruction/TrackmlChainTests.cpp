@@ -81,6 +81,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(helix.maxMissedLayers, 0u);
   EXPECT_EQ(helix.continueMissedLayers, 1u);
   EXPECT_DOUBLE_EQ(helix.continueChi2Cut, 27.0);
+  EXPECT_EQ(c.finalMinUniqueHits, 6u);
   EXPECT_EQ(helix.minHits, 6u);
   // ... and the displaced tracks beyond the pixels, seeded in the
   // short-strip barrel with a tighter chi2 (strip z is coarse) and

@@ -223,6 +223,10 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
                Range{0.0, 10000.0, false, true}},
               {"merge_max_chi2_ratio", c.mergeMaxChi2Ratio, one,
                Range::closed(1.0, 1e6)},
+              // 0: off.
+              {"final_min_unique_hits",
+               static_cast<double>(c.finalMinUniqueHits), one,
+               Range::closed(0, 100)},
           },
           key)) {
     return ChainProblem{std::nullopt, "finder." + key, *what};

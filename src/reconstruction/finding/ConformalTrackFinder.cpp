@@ -3,6 +3,7 @@
 #include "conftrack/core/Units.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 #include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
+#include "conftrack/reconstruction/finding/detail/SharedHitResolution.hpp"
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 
 #include <algorithm>
@@ -116,6 +117,19 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
     result.steps.push_back(std::move(stats));
   }
 
+  if (chain.finalMinUniqueHits > 0 && !state.tracks.empty()) {
+    const auto tStep = Clock::now();
+    StepStats stats;
+    stats.name = "SharedHits";
+    const detail::SharedHitResolution resolution(
+        {chain.cloneSharedHits, chain.finalMinUniqueHits});
+    stats.droppedTracks = resolution.run(state);
+    stats.hitsUsed = static_cast<std::uint64_t>(
+        std::count(state.used.begin(), state.used.end(), 1));
+    stats.milliseconds = msSince(tStep);
+    result.steps.push_back(std::move(stats));
+  }
+
   if (chain.finalHoleFilling && !state.tracks.empty()) {
     const auto tStep = Clock::now();
     StepStats stats;
@@ -136,6 +150,11 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
     if (!members.empty()) {
       HitPool all(conformal, std::move(members));
       detail::fillHoles(state, all, stats);
+      // Overlap partners among the hits no step's search reached or the
+      // shared-hit resolution released.
+      if (chain.overlapHits) {
+        detail::addOverlapHits(state, all, stats);
+      }
     }
     stats.hitsUsed = static_cast<std::uint64_t>(
         std::count(state.used.begin(), state.used.end(), 1));

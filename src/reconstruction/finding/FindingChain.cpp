@@ -189,6 +189,9 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
     cfg.legacyFourTesla = f.getBool("legacy_four_tesla", false);
     cfg.finalHoleFilling =
         f.getBool("final_hole_filling", cfg.finalHoleFilling);
+    cfg.finalMinUniqueHits = static_cast<std::uint32_t>(
+        f.getInt("final_min_unique_hits", cfg.finalMinUniqueHits,
+                 Range::closed(0, 100)));
     cfg.scatteringAllowance =
         f.getBool("scattering_allowance", cfg.scatteringAllowance);
     cfg.inwardScatteringAllowance =

@@ -44,6 +44,7 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   extendedHits += o.extendedHits;
   overlapHits += o.overlapHits;
   mergedTracks += o.mergedTracks;
+  droppedTracks += o.droppedTracks;
   hitsUsed += o.hitsUsed;
   recovered += o.recovered;
   cellCacheFlushes += o.cellCacheFlushes;

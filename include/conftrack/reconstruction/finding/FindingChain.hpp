@@ -246,6 +246,17 @@ struct FinderConfig {
   /// skipped (e.g. the outer sensor of a vertex double layer when the
   /// tracker step extends a vertex track) is otherwise never revisited.
   bool finalHoleFilling = true;
+  /// After the last step, before the final hole filling, resolve the
+  /// tracks' shared hits as the selection would (SharedHitResolution):
+  /// best first, a track that shares cloneSharedHits hits with one kept
+  /// track, or shares hits and has fewer than this many of its own, is
+  /// dropped and its hits are released, so that the final hole filling and
+  /// overlap search can give them to the kept tracks (0: off; chain key
+  /// final_min_unique_hits). Match the selection's min_unique_hits. A
+  /// conftrack addition (issue 15): on TrackML, short tracks through
+  /// several real ones held the second hits of those tracks' overlaps,
+  /// and the selection dropped them with those hits.
+  std::uint32_t finalMinUniqueHits = 0;
   /// Extensions and hole filling allow for multiple scattering in the
   /// material of the layer before a candidate hit (Highland, with the
   /// track's momentum estimate) in its chi2 increments. A conftrack

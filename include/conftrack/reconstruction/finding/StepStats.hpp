@@ -52,16 +52,17 @@ struct GuardCount {
 /// Counters and time of one finding step (instrumentation).
 struct StepStats {
   std::string name;
-  std::uint64_t seeds = 0;         ///< seed hits processed
-  std::uint64_t cells = 0;         ///< cells created
-  std::uint64_t paths = 0;         ///< paths enumerated
-  std::uint64_t candidates = 0;    ///< candidates passing the chi2 cuts
-  std::uint64_t accepted = 0;      ///< tracks added (net of clones)
-  std::uint64_t extendedHits = 0;  ///< hits added by extensions
-  std::uint64_t overlapHits = 0;   ///< overlap hits added (OverlapHits)
-  std::uint64_t mergedTracks = 0;  ///< tracks merged into another
-  std::uint64_t hitsUsed = 0;      ///< hits marked used at the end of step
-  std::uint64_t recovered = 0;     ///< candidates saved by the recovery
+  std::uint64_t seeds = 0;          ///< seed hits processed
+  std::uint64_t cells = 0;          ///< cells created
+  std::uint64_t paths = 0;          ///< paths enumerated
+  std::uint64_t candidates = 0;     ///< candidates passing the chi2 cuts
+  std::uint64_t accepted = 0;       ///< tracks added (net of clones)
+  std::uint64_t extendedHits = 0;   ///< hits added by extensions
+  std::uint64_t overlapHits = 0;    ///< overlap hits added (OverlapHits)
+  std::uint64_t mergedTracks = 0;   ///< tracks merged into another
+  std::uint64_t droppedTracks = 0;  ///< tracks dropped (shared hits)
+  std::uint64_t hitsUsed = 0;       ///< hits marked used at the end of step
+  std::uint64_t recovered = 0;      ///< candidates saved by the recovery
   /// Times the step's cell cache was emptied at FinderConfig::
   /// maxCachedCells (memory bound, FindingChain.hpp).
   std::uint64_t cellCacheFlushes = 0;
