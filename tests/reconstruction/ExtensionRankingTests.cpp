@@ -29,7 +29,7 @@ TEST(ExtensionRanking, ScatteringRanksLongStripDecoysBelowTheTracksHits) {
   // next long-strip layer, so a ranking by the hits' own errors takes the
   // decoy whenever it lies on the side of the prediction, whatever its z;
   // ranked with that scattering in the variances, z decides. Measured:
-  // 8.9 % of the long-strip hits on tracks are decoys (32.3 % when
+  // 7.9 % of the long-strip hits on tracks are decoys (32.3 % when
   // candidates were ranked without the scattering). Guarded at 15 %.
   std::vector<Particle> particles;
   for (const Particle& p : test::event1001Particles()) {
@@ -94,8 +94,8 @@ TEST(ExtensionRanking, HitsFarBeyondTheFitQualityDoNotEndTracks) {
   // module the extension took a neighbour's hit, and its own further hits
   // then failed. Counted over all tracks: hits of the track's majority
   // particle (own) and the others (foreign, noise included). Measured: own
-  // 68589 with the cut against 68532 without, foreign 3418 against 3654
-  // (-6.5 %; after the fit and selection the TrackML score of the five
+  // 66792 with the cut against 66591 without, foreign 2650 against 2852
+  // (-7.1 %; after the fit and selection the TrackML score of the five
   // events rises 0.8448 -> 0.8469). Guarded at +25 own and -3 % foreign.
   const Event event = test::simulateTrackml(test::event1001Particles(), 0.17);
   const Detector detector = loadDetector("trackml");

@@ -185,22 +185,23 @@ TEST(OverlapHits, IncompatibleHitsStayOff) {
 TEST(OverlapHits, ScatteringBetweenTheTwoSensorsFollowsHighland) {
   // A track of 0.3 GeV and tanLambda 2 crossing two sensors of 1 % X0
   // 9 mm apart: its path through the first is sqrt(5) times the
-  // thickness, and the deflection there moves it by theta0 * 9 mm at the
-  // second.
+  // thickness (layerTheta0), and the deflection there moves it by
+  // theta0 * 9 mm at the second.
   const Detector det = test::barrelDetector(0.01);
   const SensitiveLayer& layer = det.layers()[kLayer];
-  const double pt = 0.3;
-  const double tanLambda = 2.0;
-  const double p = pt * std::sqrt(5.0);
+  const double p = 0.3 * std::sqrt(5.0);
   const double theta0 = highlandTheta0(p, 1.0, 1.0, 0.01 * std::sqrt(5.0));
   EXPECT_NEAR(theta0, 0.0026, 0.0001);  // 13.6 MeV / p sqrt(x) (1 + ...)
-  EXPECT_NEAR(detail::overlapScatteringVariance(layer, pt, tanLambda, 9.0),
+  EXPECT_DOUBLE_EQ(detail::layerTheta0(layer, p, 2.0), theta0);
+  EXPECT_EQ(
+      detail::layerTheta0(test::barrelDetector(0.0).layers()[kLayer], p, 2.0),
+      0.0);
+  const std::vector<Hit> pair = {
+      test::barrelHit(det, kLayer, 65.0, 0.0, 10.0, 1),
+      test::barrelHit(det, kLayer, 65.0, 0.0, 19.0, 2)};
+  const ConformalHits conformal = makeConformalHits(pair, det);
+  EXPECT_NEAR(detail::overlapScatteringVariance(conformal, 0, 1, theta0),
               (theta0 * 9.0) * (theta0 * 9.0), 1e-12);
-  // No material, no momentum: nothing to add.
-  EXPECT_EQ(detail::overlapScatteringVariance(
-                test::barrelDetector(0.0).layers()[kLayer], pt, 2.0, 9.0),
-            0.0);
-  EXPECT_EQ(detail::overlapScatteringVariance(layer, 0.0, 2.0, 9.0), 0.0);
 }
 
 TEST(OverlapHits, SecondHitMovedByScatteringIsTaken) {
@@ -228,8 +229,10 @@ TEST(OverlapHits, SecondHitMovedByScatteringIsTaken) {
   ASSERT_GT(distance, 8.0);
   ASSERT_LT(distance, 11.0);
   const double pt = constants::kPtPerTeslaMm * 4.0 * kRadius;
-  const double sigmaScatter = std::sqrt(detail::overlapScatteringVariance(
-      det.layers()[kLayer], pt, kSteep, distance));
+  const double sigmaScatter =
+      detail::layerTheta0(det.layers()[kLayer], pt * std::hypot(1.0, kSteep),
+                          kSteep) *
+      distance;
   const double shift = 2.0 * sigmaScatter;
   const double sigmaHits = std::sqrt(2.0) * 0.005;
   ASSERT_GT((shift / sigmaHits) * (shift / sigmaHits), 20.0);

@@ -527,19 +527,11 @@ TEST(TrackmlChain, InwardCompletionTakesTheInnermostHitsOfForwardTracks) {
   // millimetres off the s-z line of the others ((1 + tan^2 lambda) times
   // the kink): the inward completion takes it only with its scattering
   // allowance (inward_scattering_allowance). Counted: hits on a track of
-  // their own particle (the track's majority). Measured 7672 with the
-  // allowance against 7541 without (748 particles, 8066 hits; the TrackML
+  // their own particle (the track's majority). Measured 7589 with the
+  // allowance against 7473 without (748 particles, 8066 hits; the TrackML
   // score of the five events 0.8433 -> 0.8448 with a lower fake rate). Guarded
   // at +50.
-  std::vector<Particle> forward;
-  for (const Particle& p : event1001Particles()) {
-    const double pt = p.momentum.head<2>().norm();
-    const double eta = std::abs(std::asinh(p.momentum.z() / pt));
-    if (p.vertex.head<2>().norm() < 1.0 && pt >= 0.2 && pt <= 0.6 &&
-        eta >= 1.8 && eta <= 2.6) {
-      forward.push_back(p);
-    }
-  }
+  const std::vector<Particle> forward = test::forwardLowPtParticles();
   ASSERT_GT(forward.size(), 300u);
   const Event event = simulateTrackml(forward, 0.0);
   const Detector detector = loadDetector("trackml");

@@ -67,15 +67,7 @@ TEST(TrackmlHitClaims, SteepLowMomentumTracksTakeBothHitsOfAnOverlap) {
   // before the finder's shared-hit resolution; the rest: a pair's first
   // hit left off the track, or both hits taken by another particle's
   // track). Guarded at 340.
-  std::vector<Particle> forward;
-  for (const Particle& p : test::event1001Particles()) {
-    const double pt = p.momentum.head<2>().norm();
-    const double eta = std::abs(std::asinh(p.momentum.z() / pt));
-    if (p.vertex.head<2>().norm() < 1.0 && pt >= 0.2 && pt <= 0.6 &&
-        eta >= 1.8 && eta <= 2.6) {
-      forward.push_back(p);
-    }
-  }
+  const std::vector<Particle> forward = test::forwardLowPtParticles();
   ASSERT_GT(forward.size(), 300u);
   const Event event = test::simulateTrackml(forward, 0.0);
   const Detector detector = loadDetector("trackml");

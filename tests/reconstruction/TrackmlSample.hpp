@@ -17,6 +17,7 @@
 #include "conftrack/simulation/generators/HepMCText.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -68,6 +69,22 @@ inline std::vector<Particle> readKaggleParticles(const fs::path& file) {
 inline std::vector<Particle> event1001Particles() {
   return readKaggleParticles(kTrackmlData / "train_100_events_no_truth" /
                              "event000001001-particles.csv.gz");
+}
+
+/// The prompt particles of event 1001 at 0.2-0.6 GeV and |eta| 1.8-2.6:
+/// they cross the first pixel-barrel layers steeply, then the pixel disks,
+/// and scatter there by more than the hit errors.
+inline std::vector<Particle> forwardLowPtParticles() {
+  std::vector<Particle> forward;
+  for (const Particle& p : event1001Particles()) {
+    const double pt = p.momentum.head<2>().norm();
+    const double eta = std::abs(std::asinh(p.momentum.z() / pt));
+    if (p.vertex.head<2>().norm() < 1.0 && pt >= 0.2 && pt <= 0.6 &&
+        eta >= 1.8 && eta <= 2.6) {
+      forward.push_back(p);
+    }
+  }
+  return forward;
 }
 
 /// `particles` through the module-level simulation of the TrackML

@@ -49,10 +49,11 @@ constexpr std::size_t kCompactAfter = 4096;
 
 /// Releases the hits that the completion (inward extension, hole filling)
 /// of the tracks the last accepted candidate replaced as clones had
-/// claimed, where no live track holds them. Otherwise they stay used but on no
-/// track: t, built from nearly the same hits, cannot take them, nor can the
-/// overlap search after the step (on TrackML, 85 such hits per event after the
-/// first step, most of them the second hit of a layer that t crosses).
+/// claimed, where no live track holds them. Otherwise they stay used but on
+/// no track: the new track, built from nearly the same hits, cannot take
+/// them, nor can the overlap search after the step (on TrackML, 85 such
+/// hits per event after the first step, most of them the second hit of a
+/// layer the new track crosses).
 void releaseHitsOfClones(FinderState& state) {
   for (std::uint32_t k : state.clones.killed()) {
     for (ConfIndex h : state.tracks[k].hits) {

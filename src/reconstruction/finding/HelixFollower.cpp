@@ -334,6 +334,7 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
 
 void HelixFollower::addOverlapPartners(ConfIndex chosen, double t, double pt) {
   m_taken.clear();
+  const double deflection = theta0(m_hits.layer[chosen], pt, t);
   const LayerHit first =
       *std::find_if(m_layerHits.begin(), m_layerHits.end(),
                     [&](const LayerHit& lh) { return lh.hit == chosen; });
@@ -349,7 +350,7 @@ void HelixFollower::addOverlapPartners(ConfIndex chosen, double t, double pt) {
       continue;
     }
     if (pairChi2(chosen, lh.hit, lh.rPhi - first.rPhi, lh.dz - first.dz, t,
-                 pt) <= m_state.config.overlapMaxChi2) {
+                 deflection) <= m_state.config.overlapMaxChi2) {
       m_taken.push_back(lh);
     }
   }
@@ -378,6 +379,7 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
       continue;
     }
     const double ra = std::max(m_hits.radius[a], 1.0);
+    const double deflection = theta0(layer, ptOf(c), p.t);
     const double rPhiA = norm2(m_hits.x[a] - c.cx, m_hits.y[a] - c.cy) - c.rho;
     m_window.clear();
     m_pool.layerBox(layer, m_hits.phi[a], std::min(1.0, window / ra),
@@ -403,7 +405,7 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
       const double dPerp =
           norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho - rPhiA;
       const double dz = m_hits.z[h] - m_hits.z[a] - p.t * arc;
-      const double chi2 = pairChi2(a, h, dPerp, dz, p.t, ptOf(c));
+      const double chi2 = pairChi2(a, h, dPerp, dz, p.t, deflection);
       if (chi2 <= m_state.config.overlapMaxChi2) {
         partners.push_back({m_hits.module[h], chi2, h, p.s[k] + arc});
       }
@@ -437,13 +439,10 @@ void HelixFollower::addSeedPartners(HelixPath& p) {
 }
 
 double HelixFollower::pairChi2(ConfIndex a, ConfIndex h, double dPerp,
-                               double dz, double t, double pt) const {
+                               double dz, double t, double deflection) const {
   const double sigmaA = transverseSigma(a);
   const double sigmaH = transverseSigma(h);
-  const double scatter = overlapScatteringVariance(
-      m_layers[m_hits.layer[a]], pt, t,
-      std::hypot(m_hits.x[h] - m_hits.x[a], m_hits.y[h] - m_hits.y[a],
-                 m_hits.z[h] - m_hits.z[a]));
+  const double scatter = overlapScatteringVariance(m_hits, a, h, deflection);
   const double varPerp = sigmaA * sigmaA + sigmaH * sigmaH + scatter +
                          kOverlapFloor * kOverlapFloor;
   // On disks z is exact and the arc length carries the radial error.

@@ -79,7 +79,10 @@ class HelixBuilder {
         m_stats(stats),
         m_minRho(step.minPt /
                  (constants::kPtPerTeslaMm * std::abs(state.bzForPt))),
-        m_follower(state, step, pool) {
+        m_follower(state, step, pool),
+        m_build{step.maxMissedLayers, step.chi2Cut},
+        m_continue{std::max(step.maxMissedLayers, step.continueMissedLayers),
+                   std::max(step.chi2Cut, step.continueChi2Cut)} {
     m_maxTheta0.resize(m_layers.size());
     for (std::uint32_t a : m_pool.layers()) {
       m_maxTheta0[a] = m_follower.theta0(a, step.minPt, 0.0);
@@ -124,12 +127,9 @@ class HelixBuilder {
       }
       // Followed on past gaps (continue_missed_layers): it already is a
       // track, and only its further hits are at stake.
-      if (m_step.continueMissedLayers > m_step.maxMissedLayers ||
-          m_step.continueChi2Cut > m_step.chi2Cut) {
-        m_follower.follow(
-            best,
-            {std::max(m_step.maxMissedLayers, m_step.continueMissedLayers),
-             std::max(m_step.chi2Cut, m_step.continueChi2Cut)});
+      if (m_continue.maxMissedLayers > m_build.maxMissedLayers ||
+          m_continue.chi2Cut > m_build.chi2Cut) {
+        m_follower.follow(best, m_continue);
       }
       accept(best);
     }
@@ -428,7 +428,7 @@ class HelixBuilder {
       }
       ++followed;
       HelixPath& path = tr.path;
-      m_follower.follow(path, {m_step.maxMissedLayers, m_step.chi2Cut});
+      m_follower.follow(path, m_build);
       m_follower.addSeedPartners(path);
       ++m_stats.paths;
       if (path.hits.size() >= m_step.minHits) {
@@ -491,6 +491,11 @@ class HelixBuilder {
   StepStats& m_stats;
   double m_minRho;
   HelixFollower m_follower;
+  /// The follower's limits while building and when an accepted candidate
+  /// is followed on (continue_missed_layers, continue_chi2_cut; 0: the
+  /// building ones).
+  HelixFollower::Limits m_build;
+  HelixFollower::Limits m_continue;
   std::vector<ConfIndex> m_window;
   std::vector<Triplet> m_triplets;
   std::vector<std::pair<double, std::uint32_t>> m_layerSteps;

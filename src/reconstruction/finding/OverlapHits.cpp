@@ -73,11 +73,11 @@ OverlapHitCollector::OverlapHitCollector(FinderState& state,
   }
 }
 
-double overlapScatteringVariance(const SensitiveLayer& layer, double pt,
-                                 double tanLambda, double distance) {
-  const double theta0 =
-      layerTheta0(layer, pt * std::hypot(1.0, tanLambda), tanLambda);
-  return theta0 * theta0 * distance * distance;
+double overlapScatteringVariance(const ConformalHits& hits, ConfIndex a,
+                                 ConfIndex h, double theta0) {
+  const double d = std::hypot(hits.x[h] - hits.x[a], hits.y[h] - hits.y[a],
+                              hits.z[h] - hits.z[a]);
+  return theta0 * theta0 * d * d;
 }
 
 void keepBestPerSensor(std::vector<OverlapCandidate>& candidates) {
@@ -99,7 +99,8 @@ void keepBestPerSensor(std::vector<OverlapCandidate>& candidates) {
 }
 
 double OverlapHitCollector::pairChi2(const TrackCandidate& track, ConfIndex a,
-                                     double sa, ConfIndex h, double sh) const {
+                                     double sa, ConfIndex h, double sh,
+                                     double theta0) const {
   double va = 0.0;
   double vh = 0.0;
   const double eUv =
@@ -113,10 +114,7 @@ double OverlapHitCollector::pairChi2(const TrackCandidate& track, ConfIndex a,
   double varSz = wa + wh;
   // Scattering in a's sensor moves h across the track.
   const double tanLambda = track.sz.tanLambda;
-  const double scatter = overlapScatteringVariance(
-      m_state.detector.layers()[m_hits.layer[a]], track.pt, tanLambda,
-      std::hypot(m_hits.x[h] - m_hits.x[a], m_hits.y[h] - m_hits.y[a],
-                 m_hits.z[h] - m_hits.z[a]));
+  const double scatter = overlapScatteringVariance(m_hits, a, h, theta0);
   const double r2 = std::max(m_hits.radius[a] * m_hits.radius[a], 1.0);
   varUv += scatter / (r2 * r2);  // conformal: a shift d at radius r is d / r^2
   varSz += scatter * (1.0 + tanLambda * tanLambda);
@@ -201,6 +199,9 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
     const double alongR =
         arcReach + kAlongSigmas * std::sqrt(m_hits.varRxy[a]) + kSidewaysMargin;
     m_window.clear();
+    // The scattering in a's sensor, the same for every candidate.
+    const double theta0 = layerTheta0(m_state.detector.layers()[layer],
+                                      track.pt * std::hypot(1.0, slope), slope);
     m_pool.layerBox(layer, m_hits.phi[a], halfPhi, m_hits.z[a] - alongZ,
                     m_hits.z[a] + alongZ, r - alongR, r + alongR, m_window);
     candidates.clear();
@@ -213,7 +214,7 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
       if (!(std::abs(s - hitS[k]) <= arcReach + kSidewaysMargin)) {
         continue;
       }
-      const double chi2 = pairChi2(track, a, hitS[k], h, s);
+      const double chi2 = pairChi2(track, a, hitS[k], h, s, theta0);
       if (!(chi2 <= m_config.maxChi2)) {
         continue;
       }

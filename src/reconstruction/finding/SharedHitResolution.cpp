@@ -12,8 +12,9 @@
 
 #include "conftrack/reconstruction/finding/detail/SharedHitResolution.hpp"
 
+#include "conftrack/reconstruction/SharedHitRules.hpp"
+
 #include <algorithm>
-#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -34,51 +35,35 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return betterCandidate(tracks[a], tracks[b]);
   });
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  // The kept track that first claimed each hit.
-  std::vector<std::uint32_t> owner(state.hits.size(), kNone);
-  std::vector<std::uint32_t> sharedWith;
+  // The finder has no outliers: both rules see all of a track's hits.
+  SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits);
+  std::vector<std::uint64_t> keys;
   std::uint32_t dropped = 0;
   for (std::uint32_t t : order) {
     TrackCandidate& track = tracks[t];
     if (!track.alive) {
       continue;
     }
-    sharedWith.clear();
-    for (ConfIndex h : track.hits) {
-      if (owner[h] != kNone) {
-        sharedWith.push_back(owner[h]);
-      }
-    }
-    std::sort(sharedWith.begin(), sharedWith.end());
-    bool clone = false;
-    if (m_config.cloneSharedHits > 0) {
-      for (auto it = sharedWith.begin(); it != sharedWith.end();) {
-        const auto end = std::upper_bound(it, sharedWith.end(), *it);
-        clone = clone || std::size_t(end - it) >= m_config.cloneSharedHits;
-        it = end;
-      }
-    }
-    const std::size_t own = track.hits.size() - sharedWith.size();
-    // A track that shares nothing is no ambiguity.
-    if (clone || (!sharedWith.empty() && own < m_config.minUniqueHits)) {
+    keys.assign(track.hits.begin(), track.hits.end());
+    if (rules.judge(keys, keys, t) != SharedHitRules::Verdict::eKeep) {
       track.alive = false;
       ++dropped;
-      continue;
-    }
-    for (ConfIndex h : track.hits) {
-      if (owner[h] == kNone) {
-        owner[h] = t;
-      }
-    }
-  }
-  for (ConfIndex h = 0; h < state.hits.size(); ++h) {
-    if (state.used[h] != 0 && owner[h] == kNone) {
-      state.used[h] = 0;
     }
   }
   if (dropped > 0) {
     state.compact();
+  }
+  // Every used hit that no kept track holds goes back to the pool.
+  std::vector<std::uint8_t> held(state.hits.size(), 0);
+  for (const TrackCandidate& track : tracks) {
+    for (ConfIndex h : track.hits) {
+      held[h] = 1;
+    }
+  }
+  for (ConfIndex h = 0; h < state.hits.size(); ++h) {
+    if (held[h] == 0) {
+      state.used[h] = 0;
+    }
   }
   return dropped;
 }

@@ -1,10 +1,10 @@
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"
 
+#include "conftrack/reconstruction/SharedHitRules.hpp"
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
-#include <unordered_map>
-#include <unordered_set>
 
 namespace conftrack {
 
@@ -98,56 +98,23 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
                        }
                        return ids[a] < ids[b];
                      });
-    // Hit id -> kept tracks holding it; shared-hit counts per kept track.
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> owners;
-    std::unordered_map<std::uint32_t, std::uint32_t> shared;
-    // Ids of all hits (outliers included) of the kept tracks.
-    std::unordered_set<std::uint64_t> claimed;
+    SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits);
+    std::vector<std::uint64_t> all;
     for (std::size_t i : candidates) {
-      shared.clear();
-      bool clone = false;
-      for (std::uint64_t id : ids[i]) {
-        if (m_config.cloneSharedHits == 0) {
-          break;
-        }
-        auto it = owners.find(id);
-        if (it == owners.end()) {
-          continue;
-        }
-        for (std::uint32_t owner : it->second) {
-          if (++shared[owner] >= m_config.cloneSharedHits) {
-            clone = true;
-            break;
-          }
-        }
-        if (clone) {
-          break;
-        }
+      all.clear();
+      for (HitIndex h : tracks[i].hits) {
+        all.push_back(hits[h].id);
       }
-      if (clone) {
-        ++result.clones;
-        continue;
-      }
-      if (m_config.minUniqueHits > 0) {
-        // All hits count here, outliers included: the finder put them on
-        // the track, and an outlier-rich track is no fake for that (a fit
-        // pulled off by one wrong hit flags many good ones).
-        std::size_t unique = 0;
-        for (HitIndex h : tracks[i].hits) {
-          unique += claimed.contains(hits[h].id) ? 0 : 1;
-        }
-        // A track that shares no hit is no ambiguity (minHits judges it).
-        if (unique < tracks[i].hits.size() && unique < m_config.minUniqueHits) {
+      switch (rules.judge(ids[i], all, static_cast<std::uint32_t>(i))) {
+        case SharedHitRules::Verdict::eClone:
+          ++result.clones;
+          break;
+        case SharedHitRules::Verdict::eAmbiguous:
           ++result.ambiguous;
-          continue;
-        }
-        for (HitIndex h : tracks[i].hits) {
-          claimed.insert(hits[h].id);
-        }
-      }
-      keep[i] = 1;
-      for (std::uint64_t id : ids[i]) {
-        owners[id].push_back(static_cast<std::uint32_t>(i));
+          break;
+        case SharedHitRules::Verdict::eKeep:
+          keep[i] = 1;
+          break;
       }
     }
   }

@@ -97,7 +97,7 @@ class HelixFollower {
   /// p are recomputed on c) and fills m_layerHits with the compatible
   /// unused hits of the first predicted crossing that has any; false if
   /// the path ends first (no circle, the half-turn, or more than
-  /// m_maxMissedLayers crossings without a hit).
+  /// m_limits.maxMissedLayers crossings without a hit).
   bool nextCrossing(HelixPath& p, TransverseCircle& c, SzState& sz);
 
   /// The hit of m_layerHits to take (m_layerHits is left sorted by chi2):
@@ -123,11 +123,11 @@ class HelixFollower {
 
   /// chi2 of two hits of one layer crossing on different sensors: the
   /// differences dPerp of their distances from the circle and dz of their
-  /// z residuals (slope t), against both hits' errors, the scattering in
-  /// a's sensor (overlapScatteringVariance, track pT pt) and a 0.05 mm
-  /// alignment floor.
+  /// z residuals (slope t), against both hits' errors, the scattering by
+  /// `deflection` in a's sensor (overlapScatteringVariance; theta0() of its
+  /// layer, once per layer crossing) and a 0.05 mm alignment floor.
   double pairChi2(ConfIndex a, ConfIndex h, double dPerp, double dz, double t,
-                  double pt) const;
+                  double deflection) const;
 
   /// A hit's transverse resolution [mm] (its conformal tangential error
   /// scaled back).

@@ -26,17 +26,17 @@ struct OverlapCandidate {
 /// orders those best first (total order: chi2, hit).
 void keepBestPerSensor(std::vector<OverlapCandidate>& candidates);
 
-/// Variance [mm^2] of the displacement across the track of the second of
-/// two crossings of one layer, `distance` [mm] apart in space, that
-/// multiple scattering in the first sensor causes (Highland, layerTheta0,
-/// for a track of transverse momentum pt [GeV] and slope tanLambda). Not
+/// Variance [mm^2] of the displacement across the track of hit h's
+/// crossing that a deflection theta0 [rad] (layerTheta0 of the layer at
+/// the track's momentum) in the crossing of hit a, on another sensor of
+/// the same layer, causes: theta0 times their distance in space. Not
 /// negligible for steep low-momentum tracks: TrackML's barrel pixel
 /// sensors overlap so that a track at |eta| = 2.5 crosses them 9 mm
 /// apart, where 0.36 GeV scatters by 0.08 mm against hit errors of 0.015.
 /// Across the track in the transverse plane as given; the z residual at
 /// a given arc length moves by sqrt(1 + tanLambda^2) times as much.
-double overlapScatteringVariance(const SensitiveLayer& layer, double pt,
-                                 double tanLambda, double distance);
+double overlapScatteringVariance(const ConformalHits& hits, ConfIndex a,
+                                 ConfIndex h, double theta0);
 
 /// Adds overlap hits to the live tracks of a FinderState.
 class OverlapHitCollector {
@@ -73,11 +73,12 @@ class OverlapHitCollector {
  private:
   /// chi2 of hit h at arc length sh against the track's hit a at sa: the
   /// difference of their residuals to the fits, against both hits' errors
-  /// and the scattering in a's sensor (overlapScatteringVariance). The
+  /// and the scattering by theta0 in a's sensor (overlapScatteringVariance,
+  /// computed once per layer by collect). The
   /// fits' local deviation, which scattering in all earlier layers makes
   /// far larger than the hit errors below a few GeV, cancels.
   double pairChi2(const TrackCandidate& track, ConfIndex a, double sa,
-                  ConfIndex h, double sh) const;
+                  ConfIndex h, double sh, double theta0) const;
 
   FinderState& m_state;
   const ConformalHits& m_hits;
