@@ -3,7 +3,9 @@
 /// (docs/fuzzing.md), is refused by the validator with its line: attribute
 /// names that overflow the reader's fixed buffer, and fields ending with an
 /// escaping backslash (the reader's unescape() runs past the string's end),
-/// and numeric records with repeated spaces (the reader's fields shift).
+/// numeric records with repeated spaces (the reader's fields shift), and
+/// integers outside the reader's int range (barcodes that wrap onto
+/// another vertex's).
 
 #include "conftrack/core/Error.hpp"
 #include "conftrack/simulation/generators/HepMC3Generator.hpp"
@@ -89,8 +91,70 @@ TEST(HepMCSpaces, RepeatedSpacesInNumericRecordsAreRefused) {
       "P 3 23 0 0 0 2000 2000 2 0 0 0 0\n"
       "HepMC::IO_GenEvent-END_EVENT_LISTING\n";
   EXPECT_EQ(errorOf(ioGenEvent), "a.hepmc:5: " + expected);
+  // A carriage return inside a record splits a field for the tokenizer
+  // but not for the reader; at the end of every line (CRLF) it is read.
+  event = kEvent;
+  event.replace(event.find("P 2 -1 211"), 10, "P 2 -1\r211");
+  EXPECT_EQ(errorOf(kHead + event + kTail),
+            "a.hepmc:9: carriage return inside a line (the HepMC3 3.1.2 "
+            "reader does not separate fields there)");
+  std::string crlf = kHead + kEvent + kTail;
+  for (std::size_t at = crlf.find('\n'); at != std::string::npos;
+       at = crlf.find('\n', at + 2)) {
+    crlf.insert(at, "\r");
+  }
+  EXPECT_EQ(errorOf(crlf), "(accepted)");
   // Repeated spaces inside the quoted weight names of an N line stay
   // legal (the shipped inputConvert1.hepmc has them: HepMCSharedFiles).
+}
+
+TEST(HepMCIntegers, ValuesOutsideTheReadersIntRangeAreRefused) {
+  // The fuzzer's kind of input (fuzz/regressions/hepmc_text/
+  // barcode-wider-than-int.hepmc): atoi reads end-vertex barcode
+  // -4294967298 as -2, so the Z ends at vertex -2 in the reader and vertex
+  // -4294967298 is left without incoming particles (a null vertex, SEGV).
+  const std::string head =
+      "HepMC::Version 2.06.09\nHepMC::IO_GenEvent-START_EVENT_LISTING\n"
+      "E 1 -1 -1 -1 -1 0 0 3 1 2 0 1 1.0\nU GEV MM\n"
+      "V -1 0 0 0 0 0 2 1 0\n"
+      "P 1 11 0 0 1000 1000 0.511 4 0 0 -1 0\n"
+      "P 2 -11 0 0 -1000 1000 0.511 4 0 0 -1 0\n";
+  auto event = [&](const std::string& barcode) {
+    return head + "P 3 23 0 0 0 2000 2000 2 0 0 " + barcode + " 0\n" +
+           "V -2 0 1 2 3 30 0 1 0\n"
+           "P 4 11 0 0 10 10 0.000511 4 0 0 0 0\n"
+           "V " +
+           barcode +
+           " 0 1 2 3 30 0 2 1 0.5\n"
+           "P 5 13 500 0 0 510 0.1057 1 0 0 0 0\n"
+           "P 6 -13 -500 0 0 510 0.1057 1 0 0 0 0\n"
+           "HepMC::IO_GenEvent-END_EVENT_LISTING\n";
+  };
+  EXPECT_EQ(errorOf(event("-4294967298")),
+            "a.hepmc:8: bad end-vertex barcode -4294967298 (outside the "
+            "reader's 32-bit integer range)");
+  // The int range itself is legal: the smallest vertex id.
+  std::string smallest = kEvent;
+  smallest.replace(smallest.find("V -1 0"), 6, "V -2147483648 0");
+  smallest.replace(smallest.find("P 2 -1 "), 7, "P 2 -2147483648 ");
+  smallest.replace(smallest.find("P 3 -1 "), 7, "P 3 -2147483648 ");
+  EXPECT_EQ(errorOf(kHead + smallest + kTail), "(accepted)");
+  // Asciiv3: a particle id that wraps (4294967297 reads as 1).
+  std::string v3 = kEvent;
+  v3.replace(v3.find("P 1 0"), 5, "P 4294967297 0");
+  EXPECT_EQ(errorOf(kHead + v3 + kTail),
+            "a.hepmc:7: bad particle id 4294967297 (outside the reader's "
+            "32-bit integer range)");
+  // Random states are stored, not used as references: any 64-bit value.
+  EXPECT_EQ(errorOf("HepMC::Version 2.06.09\n"
+                    "HepMC::IO_GenEvent-START_EVENT_LISTING\n"
+                    "E 1 -1 -1 -1 -1 0 0 1 1 2 1 9000000000 1 1.0\n"
+                    "V -1 0 0 0 0 0 2 1 0\n"
+                    "P 1 11 0 0 1000 1000 0.511 4 0 0 -1 0\n"
+                    "P 2 -11 0 0 -1000 1000 0.511 4 0 0 -1 0\n"
+                    "P 3 23 0 0 0 2000 2000 1 0 0 0 0\n"
+                    "HepMC::IO_GenEvent-END_EVENT_LISTING\n"),
+            "(accepted)");
 }
 
 }  // namespace

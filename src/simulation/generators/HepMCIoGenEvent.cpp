@@ -171,7 +171,7 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
         c.integer(t, 10, line.number, "beam 2 barcode");
         const long long nRandom = c.count(t, 11, line.number, "random count");
         for (long long i = 0; i < nRandom; ++i) {
-          c.integer(t, 12 + i, line.number, "random state");
+          c.integer(t, 12 + i, line.number, "random state", true);
         }
         const std::size_t w = 12 + nRandom;
         const long long nWeights = c.count(t, w, line.number, "weight count");

@@ -115,7 +115,9 @@ void headerLine(std::string_view s, const std::string& format,
 /// tab shifts every later field by one against what any other reader (and
 /// this validator's tokenizer) sees: a vertex read with other particle
 /// counts, a null vertex and a crash (found by fuzzing, docs/fuzzing.md).
-/// Such lines are refused.
+/// Such lines are refused. A carriage return inside a line is the same
+/// shift the other way (this tokenizer splits there, the reader does not);
+/// one that ends the line (a CRLF file) is harmless.
 void requireSingleSpaces(std::string_view s, std::size_t lineNumber,
                          const Checker& c) {
   if (s.find("  ") != std::string_view::npos ||
@@ -123,6 +125,12 @@ void requireSingleSpaces(std::string_view s, std::size_t lineNumber,
     c.fail(lineNumber,
            "fields must be separated by single spaces (the HepMC3 3.1.2 "
            "reader reads a repeated space or a tab as an extra field)");
+  }
+  const std::size_t cr = s.find('\r');
+  if (cr != std::string_view::npos && cr + 1 != s.size()) {
+    c.fail(lineNumber,
+           "carriage return inside a line (the HepMC3 3.1.2 reader does not "
+           "separate fields there)");
   }
 }
 

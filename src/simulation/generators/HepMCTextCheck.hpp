@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -45,14 +46,27 @@ class Checker {
     return "event " + std::to_string(number) + ": ";
   }
 
+  /// Field `i` as an integer of the readers' `int` range. The readers
+  /// convert with atoi, which wraps a wider value (-4294967298 becomes -2):
+  /// two barcodes that differ here would be one vertex there, and the
+  /// reader's graph would no longer be the one checked (a vertex left
+  /// without incoming particles, a null dereference; found by fuzzing,
+  /// docs/fuzzing.md). `wide` allows any 64-bit value, for fields whose
+  /// wrapping only changes a stored number (random states).
   long long integer(const std::vector<std::string_view>& t, std::size_t i,
-                    std::size_t line, const char* what) const {
+                    std::size_t line, const char* what,
+                    bool wide = false) const {
     if (i >= t.size()) {
       fail(line, std::string("missing ") + what);
     }
     auto v = toInt(t[i]);
     if (!v) {
       fail(line, std::string("bad ") + what + " '" + std::string(t[i]) + "'");
+    }
+    if (!wide && (*v < std::numeric_limits<int>::min() ||
+                  *v > std::numeric_limits<int>::max())) {
+      fail(line, std::string("bad ") + what + " " + std::to_string(*v) +
+                     " (outside the reader's 32-bit integer range)");
     }
     return *v;
   }
