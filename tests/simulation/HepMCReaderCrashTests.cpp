@@ -108,6 +108,18 @@ TEST(HepMCSpaces, RepeatedSpacesInNumericRecordsAreRefused) {
   // legal (the shipped inputConvert1.hepmc has them: HepMCSharedFiles).
 }
 
+TEST(HepMCVertexLists, TextAfterTheVertexPositionIsRefused) {
+  // The reader's particle list ends at the last ',' of the whole line:
+  // ",9]" after the position would add particle 9 of 3 to the vertex.
+  std::string event = kEvent;
+  event.replace(event.find("V -1 0 [1]"), 10, "V -1 0 [1] @ 1 2 3 4 ,9]");
+  EXPECT_EQ(errorOf(kHead + event + kTail),
+            "a.hepmc:8: text after the vertex position ',9]'");
+  event = kEvent;
+  event.replace(event.find("V -1 0 [1]"), 10, "V -1 0 [1] @ 1 2 3 4");
+  EXPECT_EQ(errorOf(kHead + event + kTail), "(accepted)");
+}
+
 TEST(HepMCIntegers, ValuesOutsideTheReadersIntRangeAreRefused) {
   // The fuzzer's kind of input (fuzz/regressions/hepmc_text/
   // barcode-wider-than-int.hepmc): atoi reads end-vertex barcode
@@ -145,6 +157,16 @@ TEST(HepMCIntegers, ValuesOutsideTheReadersIntRangeAreRefused) {
   EXPECT_EQ(errorOf(kHead + v3 + kTail),
             "a.hepmc:7: bad particle id 4294967297 (outside the reader's "
             "32-bit integer range)");
+  // An attribute id is negated by the reader for a vertex: the smallest
+  // int cannot be, and a wider id would wrap onto it or onto another.
+  EXPECT_EQ(errorOf(kHead + kEvent + "A -2147483648 note x\n" + kTail),
+            "a.hepmc:11: bad attribute id -2147483648 (the reader cannot "
+            "negate it)");
+  EXPECT_EQ(errorOf(kHead + kEvent + "A 2147483648 note x\n" + kTail),
+            "a.hepmc:11: bad attribute id 2147483648 (outside the reader's "
+            "32-bit integer range)");
+  EXPECT_EQ(errorOf(kHead + kEvent + "A -2147483647 note x\n" + kTail),
+            "(accepted)");
   // Random states are stored, not used as references: any 64-bit value.
   EXPECT_EQ(errorOf("HepMC::Version 2.06.09\n"
                     "HepMC::IO_GenEvent-START_EVENT_LISTING\n"

@@ -1,4 +1,5 @@
 #include <cctype>
+#include <limits>
 #include <unordered_map>
 
 #include "HepMCTextCheck.hpp"
@@ -191,6 +192,16 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
         if (t.size() < 3 || (ev && !toInt(t[1]))) {
           c.fail(line.number, "bad attribute line");
         }
+        if (ev) {
+          // GenEvent::add_attribute (3.1.2) negates a vertex id and indexes
+          // its vertex vector with it: -2147483648 stays negative there and
+          // reads far outside the vector (SEGV, docs/fuzzing.md).
+          const long long id = c.integer(t, 1, line.number, "attribute id");
+          if (id == std::numeric_limits<int>::min()) {
+            c.fail(line.number, "bad attribute id " + std::to_string(id) +
+                                    " (the reader cannot negate it)");
+          }
+        }
         // The reader copies the attribute name into a char[64] with
         // sprintf: a longer name overflows its stack (found by fuzzing,
         // docs/fuzzing.md). Its fields end at the next ' ': the name
@@ -264,6 +275,14 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
           }
           for (std::size_t i = 1; i <= 4; ++i) {
             c.real(rest, i, line.number, "vertex position");
+          }
+          // The reader looks for the list's next ',' anywhere up to the
+          // line's end: "... @ x y z t ,9]" adds particle 9, which it
+          // later takes from its particle vector unchecked (a read past
+          // the vector's end).
+          if (rest.size() > 5) {
+            c.fail(line.number, "text after the vertex position '" +
+                                    std::string(rest[5].substr(0, 20)) + "'");
           }
         }
         ev->vertices.push_back(std::move(v));
