@@ -6,6 +6,7 @@
 #include "conftrack/core/DataFiles.hpp"
 #include "conftrack/reconstruction/Reconstruction.hpp"
 
+#include <algorithm>
 #include <limits>
 
 namespace conftrack {
@@ -22,12 +23,31 @@ std::uint32_t count(const ConfigTable& t, std::string_view key,
 
 /// The [selection] table over `defaults`; the values' sense is checked by
 /// the TrackSelector constructor, whose message is located at the key.
+/// Step names (short_track_steps) are those of `chain`.
 TrackSelector::Config readSelection(const ConfigTable& t,
-                                    TrackSelector::Config c) {
+                                    TrackSelector::Config c,
+                                    const FinderConfig& chain) {
   c.minHits = count(t, "min_hits", c.minHits);
   c.cloneSharedHits = count(t, "clone_shared_hits", c.cloneSharedHits);
   c.minUniqueHits = count(t, "min_unique_hits", c.minUniqueHits);
   c.dropOutliers = t.getBool("drop_outliers", c.dropOutliers);
+  c.shortTrackHits = count(t, "short_track_hits", c.shortTrackHits);
+  c.shortTrackMaxChi2Ndf =
+      t.getDouble("short_track_max_chi2_ndf", c.shortTrackMaxChi2Ndf,
+                  Range::positiveFinite());
+  if (t.has("short_track_steps")) {
+    c.shortTrackSteps.clear();
+    for (const std::string& name : t.getStringArray("short_track_steps")) {
+      auto it =
+          std::find_if(chain.steps.begin(), chain.steps.end(),
+                       [&](const FindingStep& s) { return s.name == name; });
+      if (it == chain.steps.end()) {
+        t.fail("short_track_steps", "no step named '" + name + "'");
+      }
+      c.shortTrackSteps.push_back(
+          static_cast<std::uint16_t>(it - chain.steps.begin()));
+    }
+  }
   t.rejectUnknownKeys();
   if (std::optional<TrackSelector::Problem> p = TrackSelector::findProblem(c)) {
     t.fail(p->key, p->what);
@@ -40,10 +60,10 @@ TrackSelector::Config readSelection(const ConfigTable& t,
 Reconstruction::Config readReconstructionTable(const ConfigTable& root,
                                                const Detector& detector) {
   Reconstruction::Config config;
-  if (std::optional<ConfigTable> selection = root.findTable("selection")) {
-    config.selector = readSelection(*selection, config.selector);
-  }
   config.chain = readChainTable(root, detector);
+  if (std::optional<ConfigTable> selection = root.findTable("selection")) {
+    config.selector = readSelection(*selection, config.selector, config.chain);
+  }
   return config;
 }
 

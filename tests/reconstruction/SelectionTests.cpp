@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -283,6 +284,62 @@ TEST(Selection, DropOutliersLeavesTheMeasurements) {
   EXPECT_EQ(kept.tracks[0].numOutliers(), 2u);
 }
 
+/// Hits 0-9 on layers 0-9 of one barrel subdetector, hits 10 and 11 on
+/// layer 3 (an overlap partner of hit 3: another module).
+std::vector<Hit> makeLayeredHits() {
+  std::vector<Hit> hits = makeHits();
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    hits[i].detId.subdetector = 2;
+    hits[i].detId.layer = static_cast<std::uint16_t>(i < 10 ? i : 3);
+    hits[i].detId.module = static_cast<std::uint32_t>(i);
+  }
+  return hits;
+}
+
+Track stepTrack(std::vector<HitIndex> hits, double chi2PerNdf,
+                std::uint16_t step) {
+  Track t = makeTrack(std::move(hits), chi2PerNdf);
+  t.findingStep = step;
+  return t;
+}
+
+TEST(Selection, ShortTrackRuleJudgesShortTracksOfItsSteps) {
+  const auto hits = makeLayeredHits();
+  TrackSelector::Config c;
+  c.shortTrackHits = 6;
+  c.shortTrackMaxChi2Ndf = 2.0;
+  c.shortTrackSteps = {7};
+  const TrackSelector selector(c);
+  // Short tracks of step 7: one hit per layer and chi2/ndf <= 2 kept; a
+  // worse fit or a second hit on layer 3 (hit 10) dropped.
+  const auto r = selector.run(hits, {stepTrack({0, 1, 2, 3, 4}, 1.9, 7),
+                                     stepTrack({5, 6, 7, 8, 9}, 2.1, 7),
+                                     stepTrack({13, 14, 3, 10, 15}, 0.5, 7)});
+  ASSERT_EQ(r.tracks.size(), 1u);
+  EXPECT_EQ(r.tracks[0].hits, (std::vector<HitIndex>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(r.poorShort, 2u);
+  // The same tracks from another step, and six-hit tracks of step 7, are
+  // left to the other rules.
+  const auto other =
+      selector.run(hits, {stepTrack({5, 6, 7, 8, 9}, 2.1, 0),
+                          stepTrack({13, 14, 3, 10, 15}, 0.5, 0),
+                          stepTrack({20, 21, 22, 23, 24, 25}, 9.0, 7),
+                          stepTrack({16, 17, 18, 2, 11, 19}, 0.5, 7)});
+  EXPECT_EQ(other.tracks.size(), 4u);
+  EXPECT_EQ(other.poorShort, 0u);
+  // No steps named: every step's short tracks.
+  c.shortTrackSteps.clear();
+  EXPECT_EQ(TrackSelector(c)
+                .run(hits, {stepTrack({5, 6, 7, 8, 9}, 2.1, 0)})
+                .poorShort,
+            1u);
+  // Off by default.
+  EXPECT_EQ(TrackSelector()
+                .run(hits, {stepTrack({13, 14, 3, 10, 15}, 9.0, 7)})
+                .tracks.size(),
+            1u);
+}
+
 TEST(Selection, ConfigIsValidated) {
   TrackSelector::Config zero;
   zero.minHits = 0;
@@ -290,6 +347,15 @@ TEST(Selection, ConfigIsValidated) {
   TrackSelector::Config huge;
   huge.minUniqueHits = 5000;
   EXPECT_THROW(TrackSelector{huge}, std::invalid_argument);
+  // A short-track rule needs a positive, finite chi2/ndf bound.
+  TrackSelector::Config shortRule;
+  shortRule.shortTrackHits = 6;
+  EXPECT_EQ(TrackSelector::findProblem(shortRule)->key,
+            "short_track_max_chi2_ndf");
+  shortRule.shortTrackMaxChi2Ndf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(TrackSelector{shortRule}, std::invalid_argument);
+  shortRule.shortTrackMaxChi2Ndf = 2.0;
+  EXPECT_FALSE(TrackSelector::findProblem(shortRule));
   EXPECT_FALSE(TrackSelector::findProblem(TrackSelector::Config{}));
 }
 
@@ -320,6 +386,32 @@ TEST(Selection, ChainFileSelectionTable) {
       ADD_FAILURE() << bad;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("c.toml:2"), std::string::npos)
+          << e.what();
+    }
+  }
+  // The short-track rule names the chain's steps.
+  const Reconstruction::Config shortRule = parseReconstructionConfig(
+      "[selection]\nshort_track_hits = 6\nshort_track_max_chi2_ndf = 2.0\n"
+      "short_track_steps = [\"S0\"]\n" +
+          steps,
+      "c.toml", det);
+  EXPECT_EQ(shortRule.selector.shortTrackHits, 6u);
+  EXPECT_DOUBLE_EQ(shortRule.selector.shortTrackMaxChi2Ndf, 2.0);
+  EXPECT_EQ(shortRule.selector.shortTrackSteps,
+            (std::vector<std::uint16_t>{0}));
+  for (const char* bad :
+       {"[selection]\nshort_track_hits = 6\nshort_track_max_chi2_ndf = 2.0\n"
+        "short_track_steps = [\"Helix\"]\n",
+        "[selection]\nshort_track_hits = 6\n",
+        "[selection]\nshort_track_hits = 6\nshort_track_max_chi2_ndf = "
+        "-1.0\n"}) {
+    try {
+      parseReconstructionConfig(std::string(bad) + steps, "c.toml", det);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("c.toml:"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("short_track"), std::string::npos)
           << e.what();
     }
   }

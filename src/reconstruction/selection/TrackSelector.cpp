@@ -3,6 +3,7 @@
 #include "conftrack/reconstruction/SharedHitRules.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -37,6 +38,18 @@ double chi2PerNdf(const Track& track) {
                        : std::numeric_limits<double>::infinity();
 }
 
+/// True if two of the track's hits lie on one layer.
+bool repeatsALayer(std::span<const Hit> hits, const Track& track) {
+  for (std::size_t i = 1; i < track.hits.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (hits[track.hits[i]].detId.sameLayer(hits[track.hits[j]].detId)) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::optional<TrackSelector::Problem> TrackSelector::findProblem(
@@ -50,6 +63,16 @@ std::optional<TrackSelector::Problem> TrackSelector::findProblem(
     return Problem{"min_unique_hits",
                    "must be at most " + std::to_string(kMaxUniqueHits)};
   }
+  if (config.shortTrackHits > kMaxUniqueHits) {
+    return Problem{"short_track_hits",
+                   "must be at most " + std::to_string(kMaxUniqueHits)};
+  }
+  if (config.shortTrackHits > 0 &&
+      !(config.shortTrackMaxChi2Ndf > 0.0 &&
+        std::isfinite(config.shortTrackMaxChi2Ndf))) {
+    return Problem{"short_track_max_chi2_ndf",
+                   "must be > 0 (and finite) when short_track_hits is set"};
+  }
   return std::nullopt;
 }
 
@@ -57,6 +80,21 @@ TrackSelector::TrackSelector(const Config& config) : m_config(config) {
   if (std::optional<Problem> p = findProblem(m_config)) {
     throw std::invalid_argument("TrackSelector: " + p->key + " " + p->what);
   }
+}
+
+bool TrackSelector::poorShortTrack(std::span<const Hit> hits,
+                                   const Track& track) const {
+  const Config& c = m_config;
+  if (track.hits.size() >= c.shortTrackHits) {
+    return false;
+  }
+  if (!c.shortTrackSteps.empty() &&
+      std::find(c.shortTrackSteps.begin(), c.shortTrackSteps.end(),
+                track.findingStep) == c.shortTrackSteps.end()) {
+    return false;
+  }
+  return chi2PerNdf(track) > c.shortTrackMaxChi2Ndf ||
+         repeatsALayer(hits, track);
 }
 
 SelectionResult TrackSelector::run(std::span<const Hit> hits,
@@ -73,6 +111,10 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
     ids[i] = usedHitIds(hits, tracks[i]);
     if (ids[i].size() < m_config.minHits) {
       ++result.tooFewHits;
+      continue;
+    }
+    if (poorShortTrack(hits, tracks[i])) {
+      ++result.poorShort;
       continue;
     }
     candidates.push_back(i);

@@ -1,10 +1,11 @@
 #pragma once
 
 /// @file TrackSelector.hpp
-/// Selection of the fitted tracks (algorithm.md 11.2, 11.3): the clone
-/// treatment with the Kalman chi2 (the paper repeats it on the fitted
-/// collection; downstream ClonesAndSplitTracksFinder) and the minimum
-/// number of hits after the fit.
+/// Selection of the fitted tracks (docs/algorithm.md section 10): the
+/// clone treatment with the Kalman chi2 (the paper repeats it on the fitted
+/// collection; downstream ClonesAndSplitTracksFinder), the minimum number
+/// of hits after the fit, the shared-hit resolution and the short-track
+/// rule.
 
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Track.hpp"
@@ -30,6 +31,8 @@ struct SelectionResult {
   std::size_t clones = 0;
   /// Dropped for fewer than Config::minUniqueHits hits of their own.
   std::size_t ambiguous = 0;
+  /// Dropped by the short-track rule (Config::shortTrackHits).
+  std::size_t poorShort = 0;
 };
 
 /// Track selection.
@@ -51,6 +54,14 @@ struct SelectionResult {
 ///    that share one hit with each of several better tracks, which in dense
 ///    events are mostly fakes built across neighbouring particles
 ///    (docs/algorithm.md section 10). A shared hit stays on both kept tracks.
+/// 4. Short-track rule (off by default), applied with step 1: a track of
+///    fewer than shortTrackHits hits, from one of shortTrackSteps, is kept
+///    only if no two of its hits lie on one layer and its chi2/ndf is at
+///    most shortTrackMaxChi2Ndf. A helix step's tracks of four or five
+///    strip hits are made of noise and left-over hits as easily as of a
+///    particle; an overlap partner adds a hit but no lever arm, and noise
+///    supplies partners as readily as particles do (docs/algorithm.md
+///    section 10).
 ///
 /// Thread-safe: run() is const.
 class TrackSelector {
@@ -76,6 +87,16 @@ class TrackSelector {
     /// track's measurement states. Off by default (the outlier flags are
     /// written with the hits).
     bool dropOutliers = false;
+    /// Short-track rule: tracks with fewer hits than this (outliers
+    /// included; 0: no rule) must have one hit per layer and chi2/ndf at
+    /// most shortTrackMaxChi2Ndf.
+    std::uint32_t shortTrackHits = 0;
+    /// The largest chi2/ndf of a short track.
+    double shortTrackMaxChi2Ndf = 0.0;
+    /// The finding steps (Track::findingStep) whose tracks the short-track
+    /// rule judges; empty: all. Chain files name them ([selection]
+    /// short_track_steps).
+    std::vector<std::uint16_t> shortTrackSteps;
   };
 
   /// A selector with the default Config.
@@ -91,7 +112,8 @@ class TrackSelector {
     std::string what;
   };
   /// The first nonsense setting of `config` (minHits = 0, minUniqueHits
-  /// above 1000), none if it is valid.
+  /// above 1000, a short-track rule without a positive chi2/ndf bound),
+  /// none if it is valid.
   static std::optional<Problem> findProblem(const Config& config);
 
   /// The settings.
@@ -105,6 +127,9 @@ class TrackSelector {
                       std::vector<Track> tracks) const;
 
  private:
+  /// The short-track rule (Config::shortTrackHits) rejects the track.
+  bool poorShortTrack(std::span<const Hit> hits, const Track& track) const;
+
   Config m_config;
 };
 
