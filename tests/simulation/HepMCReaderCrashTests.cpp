@@ -120,6 +120,30 @@ TEST(HepMCVertexLists, TextAfterTheVertexPositionIsRefused) {
   EXPECT_EQ(errorOf(kHead + event + kTail), "(accepted)");
 }
 
+TEST(HepMCVertices, WeightedVertexWithoutIncomingParticlesIsRefused) {
+  // The fuzzer's record (fuzz/regressions/hepmc_text/
+  // fuzzer-weighted-vertex-of-free-beams.hepmc): vertex -1 holds only a
+  // free status-4 beam and the Z, so the reader drops it (a null cache
+  // entry) and then attaches its two weights to it (SEGV).
+  const std::string head =
+      "HepMC::Version 2.06.09\nHepMC::IO_GenEvent-START_EVENT_LISTING\n"
+      "E 1 -1 -1 -1 -1 0 0 2 1 2 0 1 1.0\nU GEV MM\n";
+  const std::string tail =
+      "P 2 -11 0 0 -1000 1000 0.511 4 0 0 0 0\n"
+      "P 3 23 0 0 0 2000 2000 2 0 0 -2 0\n"
+      "V -2 0 1 2 3 5 0 1 0\n"
+      "P 5 13 0 0 10 10.5 0.1057 1 0 0 0 0\n"
+      "HepMC::IO_GenEvent-END_EVENT_LISTING\n";
+  EXPECT_EQ(errorOf(head + "V -1 0 0 0 0 0 0 2 2 0.5 1.0\n" + tail),
+            "a.hepmc:5: event 1: vertex -1 has weights but no incoming "
+            "particles (a malformed record that crashes the HepMC3 3.1.2 "
+            "reader)");
+  // Without weights the reader survives it and the event comes back short
+  // of its beam: refused after the reader, not by the validator.
+  EXPECT_EQ(errorOf(head + "V -1 0 0 0 0 0 0 2 0\n" + tail),
+            "a.hepmc: HepMC3 reader failed on event 1 of 1");
+}
+
 TEST(HepMCIntegers, ValuesOutsideTheReadersIntRangeAreRefused) {
   // The fuzzer's kind of input (fuzz/regressions/hepmc_text/
   // barcode-wider-than-int.hepmc): atoi reads end-vertex barcode
