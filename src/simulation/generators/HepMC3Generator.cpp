@@ -81,10 +81,12 @@ std::vector<Particle> convert(const HepMC3::GenEvent& evt,
 std::vector<std::vector<Particle>> readHepMCEvents(std::string_view text,
                                                    const std::string& source,
                                                    double maxProductionRadius) {
-  // Everything that could crash the library is rejected here first.
-  const hepmc::TextSummary summary = hepmc::validate(text, source);
+  // Everything that could crash the library is rejected here first, and
+  // the reader is given the validated records as the validator re-printed
+  // them (TextSummary::canonical), never the file's own text.
+  hepmc::TextSummary summary = hepmc::validate(text, source);
 
-  std::istringstream in{std::string(text)};
+  std::istringstream in{std::move(summary.canonical)};
   std::unique_ptr<HepMC3::Reader> reader;
   if (summary.format == hepmc::Format::eAsciiV3) {
     reader = std::make_unique<HepMC3::ReaderAscii>(in);

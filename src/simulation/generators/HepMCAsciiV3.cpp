@@ -161,12 +161,17 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
         ev->number = c.integer(t, 1, line.number, "event number");
         ev->nVertices = c.count(t, 2, line.number, "vertex count");
         ev->nParticles = c.count(t, 3, line.number, "particle count");
+        CanonicalLine canonical(summary.canonical, 'E');
+        canonical.integer(ev->number)
+            .integer(ev->nVertices)
+            .integer(ev->nParticles);
         if (t.size() > 4) {
           if (t[4] != "@") {
             c.fail(line.number, "bad event line");
           }
+          canonical.word("@");
           for (std::size_t i = 5; i <= 8; ++i) {
-            c.real(t, i, line.number, "event position");
+            canonical.real(c.real(t, i, line.number, "event position"));
           }
         }
         // Bounded by the lines: every particle needs one, and a header may
@@ -235,6 +240,7 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
           c.fail(line.number, "units line before the first event");
         }
         c.units(t, line.number);
+        CanonicalLine(summary.canonical, 'U').word(t[1]).word(t[2]);
         break;
       case 'V': {
         if (!ev) {
@@ -246,7 +252,7 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
         if (v.id >= 0) {
           c.fail(line.number, "vertex id must be negative");
         }
-        c.integer(t, 2, line.number, "vertex status");
+        const long long status = c.integer(t, 2, line.number, "vertex status");
         const auto open = s.find('[');
         const auto close = s.find(']');
         if (open == std::string_view::npos || close == std::string_view::npos ||
@@ -273,13 +279,21 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
           }
           list.remove_prefix(comma + 1);
         }
+        std::string list3 = "[";
+        for (std::size_t i = 0; i < v.incoming.size(); ++i) {
+          list3 += (i == 0 ? "" : ",") + std::to_string(v.incoming[i]);
+        }
+        list3 += ']';
+        CanonicalLine canonical(summary.canonical, 'V');
+        canonical.integer(v.id).integer(status).word(list3);
         const auto rest = tokenize(s.substr(close + 1));
         if (!rest.empty()) {
           if (rest[0] != "@") {
             c.fail(line.number, "bad vertex line");
           }
+          canonical.word("@");
           for (std::size_t i = 1; i <= 4; ++i) {
-            c.real(rest, i, line.number, "vertex position");
+            canonical.real(c.real(rest, i, line.number, "vertex position"));
           }
           // The reader looks for the list's next ',' anywhere up to the
           // line's end: "... @ x y z t ,9]" adds particle 9, which it
@@ -308,11 +322,13 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
                                   std::to_string(id) +
                                   " has a mother particle that is not earlier");
         }
-        c.integer(t, 3, line.number, "PDG code");
+        CanonicalLine canonical(summary.canonical, 'P');
+        canonical.integer(id).integer(mother).integer(
+            c.integer(t, 3, line.number, "PDG code"));
         for (std::size_t i = 4; i <= 8; ++i) {
-          c.real(t, i, line.number, "particle momentum/mass");
+          canonical.real(c.real(t, i, line.number, "particle momentum/mass"));
         }
-        c.integer(t, 9, line.number, "particle status");
+        canonical.integer(c.integer(t, 9, line.number, "particle status"));
         if (mother > 0 &&
             !ev->hasEndVertex[static_cast<std::size_t>(mother - 1)]) {
           // The reader creates a vertex with the mother as incoming.

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <unordered_map>
 
 #include "HepMCTextCheck.hpp"
@@ -190,6 +191,21 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
         for (long long i = 0; i < nWeights; ++i) {
           c.real(t, w + 1 + i, line.number, "event weight", false);
         }
+        // Scales, couplings, process, signal vertex, beams, random states
+        // and weights are not used by conftrack.
+        CanonicalLine(summary.canonical, 'E')
+            .integer(ev->number)
+            .integer(-1)
+            .integer(0)
+            .integer(0)
+            .integer(0)
+            .integer(0)
+            .integer(0)
+            .integer(ev->nVertices)
+            .integer(0)
+            .integer(0)
+            .integer(0)
+            .integer(0);
         break;
       }
       case 'N': {
@@ -202,6 +218,7 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
       }
       case 'U':
         c.units(t, line.number);
+        CanonicalLine(summary.canonical, 'U').word(t[1]).word(t[2]);
         break;
       case 'C':
         c.real(t, 1, line.number, "cross section", false);
@@ -222,9 +239,10 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
         V2 v;
         v.line = line.number;
         v.barcode = c.integer(t, 1, line.number, "vertex barcode");
-        c.integer(t, 2, line.number, "vertex id");
-        for (std::size_t i = 3; i <= 6; ++i) {
-          c.real(t, i, line.number, "vertex position");
+        const long long id = c.integer(t, 2, line.number, "vertex id");
+        std::array<double, 4> position{};
+        for (std::size_t i = 0; i < 4; ++i) {
+          position[i] = c.real(t, 3 + i, line.number, "vertex position");
         }
         v.nOrphans = c.count(t, 7, line.number, "orphan count");
         v.nOut = c.count(t, 8, line.number, "outgoing count");
@@ -233,6 +251,16 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
         for (long long i = 0; i < nWeights; ++i) {
           c.real(t, 10 + i, line.number, "vertex weight", false);
         }
+        CanonicalLine(summary.canonical, 'V')
+            .integer(v.barcode)
+            .integer(id)
+            .real(position[0])
+            .real(position[1])
+            .real(position[2])
+            .real(position[3])
+            .integer(v.nOrphans)
+            .integer(v.nOut)
+            .integer(0);
         ev->vertices.push_back(v);
         break;
       }
@@ -244,9 +272,11 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
         }
         P2 p;
         p.barcode = c.integer(t, 1, line.number, "particle barcode");
-        c.integer(t, 2, line.number, "PDG code");
-        for (std::size_t i = 3; i <= 7; ++i) {
-          c.real(t, i, line.number, "particle momentum/mass");
+        const long long pdg = c.integer(t, 2, line.number, "PDG code");
+        std::array<double, 5> momentumAndMass{};
+        for (std::size_t i = 0; i < 5; ++i) {
+          momentumAndMass[i] =
+              c.real(t, 3 + i, line.number, "particle momentum/mass");
         }
         p.status = c.integer(t, 8, line.number, "particle status");
         c.real(t, 9, line.number, "polarisation theta", false);
@@ -256,6 +286,17 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
         for (long long i = 0; i < 2 * nFlow; ++i) {
           c.integer(t, 13 + i, line.number, "flow entry");
         }
+        CanonicalLine canonical(summary.canonical, 'P');
+        canonical.integer(p.barcode).integer(pdg);
+        for (const double value : momentumAndMass) {
+          canonical.real(value);
+        }
+        // No polarisation, no flow.
+        canonical.integer(p.status)
+            .integer(0)
+            .integer(0)
+            .integer(p.endBarcode)
+            .integer(0);
         p.vertex = ev->vertices.size() - 1;
         ++ev->vertices.back().nListed;
         ev->particles.push_back(p);

@@ -1,5 +1,6 @@
 #include "HepMCTextCheck.hpp"
 
+#include <array>
 #include <charconv>
 #include <cstdint>
 #include <utility>
@@ -101,13 +102,44 @@ bool hasCycle(const std::vector<std::vector<std::size_t>>& adjacency) {
 void headerLine(std::string_view s, const std::string& format,
                 std::size_t lineNumber, const Checker& c,
                 TextSummary& summary) {
-  if (startsWith(s, "HepMC::" + format + "-END_EVENT_LISTING")) {
+  const std::string start = "HepMC::" + format + "-START_EVENT_LISTING";
+  const std::string end = "HepMC::" + format + "-END_EVENT_LISTING";
+  if (startsWith(s, end)) {
     summary.hasFooter = true;
-  } else if (!startsWith(s, "HepMC::Version") &&
-             !startsWith(s, "HepMC::" + format + "-START_EVENT_LISTING")) {
+    summary.canonical += end;
+  } else if (startsWith(s, start)) {
+    summary.canonical += start;
+  } else if (startsWith(s, "HepMC::Version")) {
+    summary.canonical += "HepMC::Version 3.1.2";
+  } else {
     c.fail(lineNumber,
            "unexpected line '" + std::string(s.substr(0, 60)) + "'");
   }
+  summary.canonical += '\n';
+}
+
+CanonicalLine& CanonicalLine::integer(long long v) {
+  std::array<char, 24> buffer{};
+  auto [ptr, ec] =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
+  m_out += ' ';
+  m_out.append(buffer.data(), ptr);
+  return *this;
+}
+
+CanonicalLine& CanonicalLine::real(double v) {
+  std::array<char, 32> buffer{};
+  auto [ptr, ec] =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
+  m_out += ' ';
+  m_out.append(buffer.data(), ptr);
+  return *this;
+}
+
+CanonicalLine& CanonicalLine::word(std::string_view w) {
+  m_out += ' ';
+  m_out += w;
+  return *this;
 }
 
 /// The HepMC3 3.1.2 readers find the fields of the numeric records by

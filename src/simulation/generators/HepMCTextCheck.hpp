@@ -118,9 +118,29 @@ std::vector<Line> splitLines(std::string_view text);
 bool hasCycle(const std::vector<std::vector<std::size_t>>& adjacency);
 
 /// A "HepMC..." line of `format`: version, start or end marker. Anything
-/// else there would stop the library's reader, so it is an error.
+/// else there would stop the library's reader, so it is an error. The
+/// line's canonical form is appended to `summary.canonical`.
 void headerLine(std::string_view s, const std::string& format,
                 std::size_t lineNumber, const Checker& c, TextSummary& summary);
+
+/// Builds the canonical text (TextSummary::canonical) one record at a
+/// time: fields separated by single spaces, integers in decimal, reals in
+/// their shortest round-trip form (std::to_chars), so that the reader's
+/// atoi/atof see exactly the values the validator checked.
+class CanonicalLine {
+ public:
+  CanonicalLine(std::string& out, char key) : m_out(out) { m_out += key; }
+  CanonicalLine(const CanonicalLine&) = delete;
+  CanonicalLine& operator=(const CanonicalLine&) = delete;
+  ~CanonicalLine() { m_out += '\n'; }
+
+  CanonicalLine& integer(long long v);
+  CanonicalLine& real(double v);
+  CanonicalLine& word(std::string_view w);
+
+ private:
+  std::string& m_out;
+};
 
 /// Refuses a line whose fields are not separated by single spaces (see
 /// HepMCTextCheck.cpp).
