@@ -268,6 +268,73 @@ TEST(TrackMerging, ShrunkFurtherTurnIsRecognisedByItsFreeCircle) {
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
 }
 
+TEST(TrackMerging, FurtherTurnOfADisplacedLooperIsRecognised) {
+  // A looper produced 15 mm off the beam line (a conversion or decay in the
+  // beam pipe): the first half-turn's conformal fit, a circle through the
+  // origin, lies up to 30 mm off its own hits beyond the apex, and the
+  // incoming half-turn's hits with it, beyond the 10 mm turn distance. The
+  // first half-turn's free circle goes through them.
+  constexpr double kLoopRho = 70.0;
+  const Vector2 production(15.0 * std::cos(kPhi0 + 1.0),
+                           15.0 * std::sin(kPhi0 + 1.0));
+  const Vector2 centre =
+      production + kLoopRho * Vector2(std::sin(kPhi0), -std::cos(kPhi0));
+  Fixture f;
+  // Outgoing (ids 1..) and incoming (ids 51..) crossings of each layer: the
+  // circle's points at the layer radius, ordered by angle round the centre.
+  const double startAngle =
+      std::atan2(production.y() - centre.y(), production.x() - centre.x());
+  for (std::uint16_t l = 0; l < 8; ++l) {
+    const double r = f.det.layers()[l].r;
+    const double d = centre.norm();
+    // Circle-circle intersection: |p| = r and |p - centre| = rho.
+    const double a = (r * r - kLoopRho * kLoopRho + d * d) / (2.0 * d);
+    const double h2 = r * r - a * a;
+    if (h2 <= 0.0) {
+      break;
+    }
+    const Vector2 base = a * centre / d;
+    const Vector2 normal(-centre.y() / d, centre.x() / d);
+    std::vector<std::pair<double, Vector2>> crossings;
+    for (const double sign : {1.0, -1.0}) {
+      const Vector2 p = base + sign * std::sqrt(h2) * normal;
+      // Clockwise (positive charge, as helixHits): angle decreasing.
+      double turned =
+          startAngle - std::atan2(p.y() - centre.y(), p.x() - centre.x());
+      turned =
+          std::fmod(turned + 4.0 * std::numbers::pi, 2.0 * std::numbers::pi);
+      crossings.emplace_back(turned, p);
+    }
+    std::sort(crossings.begin(), crossings.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double s = crossings[k].first * kLoopRho;
+      const Vector2& p = crossings[k].second;
+      f.hits.push_back(test::barrelHit(f.det, l, p.x(), p.y(), 0.05 * s,
+                                       (k == 0 ? 1u : 51u) + l));
+    }
+  }
+  ASSERT_EQ(f.hits.size(), 14u);
+  // The displaced pieces fail a circle-through-the-origin cut (an
+  // extension, not a build, would have made them).
+  f.cfg.steps[0].chi2Cut = 1e9;
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  double offCircle = 0.0;
+  const auto& first = f.state->tracks[0].uv;
+  for (const Hit& h : f.hits) {
+    if (h.id > 50) {
+      offCircle = std::max(offCircle,
+                           std::abs(std::hypot(h.position.x() - first.centreX,
+                                               h.position.y() - first.centreY) -
+                                    first.radius));
+    }
+  }
+  EXPECT_GT(offCircle, 10.0);
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
 TEST(TrackMerging, PieceAcrossTheApexIsRecognised) {
   // A piece of the looper round its apex (R = 140 mm: out through layer
   // 120, back through 120-80) beside a first track through layers 30-100

@@ -39,7 +39,8 @@
 // the first half-turn far from its hits, so they are never merged; instead
 // (Config::dropTurns) a track whose hits lie within
 // Config::maxTurnDistance of the circle of a better track (betterCandidate:
-// more hits first) whose diameter is below the outermost layer radius
+// more hits first; its free circle, as the turn's below) whose diameter is
+// below the outermost layer radius
 // (Config::maxLoopDiameter: only such a particle turns back inside the
 // tracker; CLICdet pT < 0.9 GeV), whose circle (a free fit to its hits:
 // the conformal one assumes a circle through the origin, which a further
@@ -163,12 +164,19 @@ bool TrackMerger::conflict(const TrackCandidate& a,
 }
 
 bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
+                                const TransverseCircle& firstCircle,
                                 const TrackCandidate& turn,
                                 const TransverseCircle& turnCircle) const {
   // (dropTurns passes only firsts whose circle can loop: maxLoopDiameter.)
-  const double radius = first.uv.radius;
+  // Both half-turns are compared by their free circles: the first one's
+  // conformal fit is a circle through the origin, which the half-turn of
+  // a particle produced off the beam line (a conversion, a decay) is not,
+  // and then its further turn lies off it by tens of millimetres. The z
+  // test below keeps the first one's conformal arc frame, in which its s-z
+  // line was fitted.
+  const double radius = firstCircle.rho;
   const double centreDistance =
-      norm2(first.uv.centreX - turnCircle.cx, first.uv.centreY - turnCircle.cy);
+      norm2(firstCircle.cx - turnCircle.cx, firstCircle.cy - turnCircle.cy);
   if (centreDistance > m_config.maxTurnCentreDistance ||
       std::abs(radius - turnCircle.rho) > m_config.maxTurnCentreDistance) {
     return false;
@@ -178,13 +186,14 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   const double sense = first.uv.orientation == turn.uv.orientation ? 1.0 : -1.0;
   const double dTanLambda = turn.sz.tanLambda - sense * first.sz.tanLambda;
   const ArcFrame arc = makeArcFrame(first.uv, m_hits, first.hits.front());
-  const double period = 2.0 * std::numbers::pi * radius;
+  const double period = 2.0 * std::numbers::pi * arc.radius;
   std::vector<double> s;
   s.reserve(turn.hits.size());
   double distance = 0.0;
   for (ConfIndex h : turn.hits) {
     const double d = std::abs(
-        norm2(m_hits.x[h] - arc.centreX, m_hits.y[h] - arc.centreY) - radius);
+        norm2(m_hits.x[h] - firstCircle.cx, m_hits.y[h] - firstCircle.cy) -
+        radius);
     if (!(d <= m_config.maxTurnDistance)) {
       return false;
     }
@@ -237,11 +246,13 @@ std::uint32_t TrackMerger::dropTurns() {
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     rank[order[i]] = i;
   }
-  // Each track's circle as a further turn: a free least-squares circle
-  // through its hits. The conformal fit assumes a circle through the
-  // origin, which a turn that energy loss and scattering have moved is not:
-  // its conformal centre lies tens of millimetres off (helix-step tracks
-  // have a free circle already; three-hit ones keep theirs).
+  // Each track's circle, as a first half-turn and as a further turn: a
+  // free least-squares circle through its hits. The conformal fit assumes
+  // a circle through the origin, which a turn that energy loss and
+  // scattering have moved is not, nor the half-turn of a particle produced
+  // off the beam line: its conformal centre lies tens of millimetres off
+  // (helix-step tracks have a free circle already; three-hit ones keep
+  // theirs).
   std::vector<TransverseCircle> circles(tracks.size());
   for (std::uint32_t t : order) {
     const TrackCandidate& c = tracks[t];
@@ -262,19 +273,20 @@ std::uint32_t TrackMerger::dropTurns() {
   std::uint32_t dropped = 0;
   for (std::uint32_t t : order) {
     const TrackCandidate& first = tracks[t];
-    if (!first.alive || !(2.0 * first.uv.radius <= m_config.maxLoopDiameter)) {
+    if (!first.alive || !(2.0 * circles[t].rho <= m_config.maxLoopDiameter)) {
       continue;
     }
     turns.clear();
+    const double centreX = circles[t].cx;
     auto it = std::lower_bound(
         byX.begin(), byX.end(),
-        std::make_pair(first.uv.centreX - m_config.maxTurnCentreDistance, 0u));
+        std::make_pair(centreX - m_config.maxTurnCentreDistance, 0u));
     for (; it != byX.end() &&
-           it->first <= first.uv.centreX + m_config.maxTurnCentreDistance;
+           it->first <= centreX + m_config.maxTurnCentreDistance;
          ++it) {
       const std::uint32_t u = it->second;
       if (rank[u] > rank[t] && tracks[u].alive &&
-          isFurtherTurn(first, tracks[u], circles[u])) {
+          isFurtherTurn(first, circles[t], tracks[u], circles[u])) {
         turns.push_back(u);
       }
     }

@@ -123,9 +123,11 @@ class TrackMerger {
   /// are compatible.
   bool tryMerge(std::uint32_t a, std::uint32_t b, TrackCandidate& out) const;
   /// True if `turn`, whose free circle is `turnCircle`, lies on a further
-  /// half-turn of the helix of `first` (its turn score is at most
-  /// Config::maxTurnScore).
-  bool isFurtherTurn(const TrackCandidate& first, const TrackCandidate& turn,
+  /// half-turn of the helix of `first`, whose free circle is `firstCircle`
+  /// (its turn score is at most Config::maxTurnScore).
+  bool isFurtherTurn(const TrackCandidate& first,
+                     const TransverseCircle& firstCircle,
+                     const TrackCandidate& turn,
                      const TransverseCircle& turnCircle) const;
   /// Drops further half-turns (Config::dropTurns); returns how many.
   std::uint32_t dropTurns();
