@@ -122,27 +122,17 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
   summary.format = Format::eAsciiV3;
   std::optional<Event3> ev;
   std::optional<std::size_t> nWeightNames;
-  auto finish = [&]() {
+  // Checks the open event, counts it and closes it.
+  auto endEvent = [&]() {
     if (ev) {
       finishEvent3(c, *ev);
       summary.particlesPerEvent.push_back(ev->mothers.size());
       ++summary.numEvents;
     }
+    ev.reset();
   };
-  for (const Line& line : lines) {
+  auto record = [&](const Line& line) {
     const std::string_view s = line.text;
-    if (s.empty() || s == "\r") {
-      continue;
-    }
-    if (startsWith(s, "HepMC")) {
-      headerLine(s, "Asciiv3", line.number, c, summary);
-      // The reader ends the event at a "HepMC" line: what follows belongs
-      // to no event (ReaderAsciiHepMC2 3.1.2 then crashes on the vertices
-      // left without particles, found by fuzzing, docs/fuzzing.md).
-      finish();
-      ev.reset();
-      continue;
-    }
     const auto t = tokenize(s);
     const char key = s[0];
     if (endsFieldWithEscape(s)) {
@@ -155,7 +145,7 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
     }
     switch (key) {
       case 'E': {
-        finish();
+        endEvent();
         ev.emplace();
         ev->line = line.number;
         ev->number = c.integer(t, 1, line.number, "event number");
@@ -343,8 +333,8 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
       default:
         c.fail(line.number, "unknown line type '" + std::string(1, key) + "'");
     }
-  }
-  finish();
+  };
+  forEachRecord(lines, "Asciiv3", c, summary, endEvent, record);
   return summary;
 }
 

@@ -139,27 +139,17 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
   TextSummary summary;
   summary.format = Format::eIoGenEvent;
   std::optional<Event2> ev;
-  auto finish = [&]() {
+  // Checks the open event, counts it and closes it.
+  auto endEvent = [&]() {
     if (ev) {
       finishEvent2(c, *ev);
       summary.particlesPerEvent.push_back(ev->particles.size());
       ++summary.numEvents;
     }
+    ev.reset();
   };
-  for (const Line& line : lines) {
+  auto record = [&](const Line& line) {
     const std::string_view s = line.text;
-    if (s.empty() || s == "\r") {
-      continue;
-    }
-    if (startsWith(s, "HepMC")) {
-      headerLine(s, "IO_GenEvent", line.number, c, summary);
-      // The reader ends the event at a "HepMC" line: what follows belongs
-      // to no event (ReaderAsciiHepMC2 3.1.2 then crashes on the vertices
-      // left without particles, found by fuzzing, docs/fuzzing.md).
-      finish();
-      ev.reset();
-      continue;
-    }
     const auto t = tokenize(s);
     const char key = s[0];
     if (key != 'E' && !ev) {
@@ -170,7 +160,7 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
     }
     switch (key) {
       case 'E': {
-        finish();
+        endEvent();
         ev.emplace();
         ev->line = line.number;
         ev->number = c.integer(t, 1, line.number, "event number");
@@ -305,8 +295,8 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
       default:
         c.fail(line.number, "unknown line type '" + std::string(1, key) + "'");
     }
-  }
-  finish();
+  };
+  forEachRecord(lines, "IO_GenEvent", c, summary, endEvent, record);
   return summary;
 }
 
