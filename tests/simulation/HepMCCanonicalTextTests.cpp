@@ -77,7 +77,6 @@ std::vector<std::pair<std::string, std::vector<StableParticle>>> readDirectly(
 }
 
 TEST(HepMCCanonicalText, ReaderGetsTheSameParticlesAsFromTheFile) {
-  std::size_t files = 0;
   for (const char* name :
        {"g4pythia.hepmc.gz", "inputConvert1.hepmc.gz", "inputIO6.hepmc.gz",
         "sk_example_HS.hepmc.gz", "sk_example_PU.hepmc.gz"}) {
@@ -98,9 +97,7 @@ TEST(HepMCCanonicalText, ReaderGetsTheSameParticlesAsFromTheFile) {
     EXPECT_GT(stable, 0U);
     // The canonical text is the smaller one: it drops records.
     EXPECT_LT(summary.canonical.size(), text.size());
-    ++files;
   }
-  EXPECT_EQ(files, 5U);
 }
 
 TEST(HepMCCanonicalText, AuxiliaryRecordsAreDroppedAndNumbersReprinted) {

@@ -269,13 +269,13 @@ TextSummary validateAsciiV3(const std::vector<Line>& lines, const Checker& c) {
           }
           list.remove_prefix(comma + 1);
         }
-        std::string list3 = "[";
+        std::string particleList = "[";
         for (std::size_t i = 0; i < v.incoming.size(); ++i) {
-          list3 += (i == 0 ? "" : ",") + std::to_string(v.incoming[i]);
+          particleList += (i == 0 ? "" : ",") + std::to_string(v.incoming[i]);
         }
-        list3 += ']';
+        particleList += ']';
         CanonicalLine canonical(summary.canonical, 'V');
-        canonical.integer(v.id).integer(status).word(list3);
+        canonical.integer(v.id).integer(status).word(particleList);
         const auto rest = tokenize(s.substr(close + 1));
         if (!rest.empty()) {
           if (rest[0] != "@") {

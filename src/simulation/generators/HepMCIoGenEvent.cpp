@@ -182,20 +182,13 @@ TextSummary validateIoGenEvent(const std::vector<Line>& lines,
           c.real(t, w + 1 + i, line.number, "event weight", false);
         }
         // Scales, couplings, process, signal vertex, beams, random states
-        // and weights are not used by conftrack.
+        // and weights are not used by conftrack: MPI -1, the next five 0;
+        // then no beams, no random states, no weights.
         CanonicalLine(summary.canonical, 'E')
             .integer(ev->number)
-            .integer(-1)
-            .integer(0)
-            .integer(0)
-            .integer(0)
-            .integer(0)
-            .integer(0)
+            .word("-1 0 0 0 0 0")
             .integer(ev->nVertices)
-            .integer(0)
-            .integer(0)
-            .integer(0)
-            .integer(0);
+            .word("0 0 0 0");
         break;
       }
       case 'N': {

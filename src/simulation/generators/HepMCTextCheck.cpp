@@ -118,21 +118,19 @@ void headerLine(std::string_view s, const std::string& format,
   summary.canonical += '\n';
 }
 
-CanonicalLine& CanonicalLine::integer(long long v) {
-  std::array<char, 24> buffer{};
-  auto [ptr, ec] =
-      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
-  m_out += ' ';
-  m_out.append(buffer.data(), ptr);
-  return *this;
-}
+CanonicalLine& CanonicalLine::integer(long long v) { return number(v); }
 
-CanonicalLine& CanonicalLine::real(double v) {
+CanonicalLine& CanonicalLine::real(double v) { return number(v); }
+
+template <typename T>
+CanonicalLine& CanonicalLine::number(T v) {
+  // Large enough for any long long and for the shortest round-trip form of
+  // any double ("-2.2250738585072014e-308": 24 characters).
   std::array<char, 32> buffer{};
-  auto [ptr, ec] =
+  const auto result =
       std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
   m_out += ' ';
-  m_out.append(buffer.data(), ptr);
+  m_out.append(buffer.data(), result.ptr);
   return *this;
 }
 

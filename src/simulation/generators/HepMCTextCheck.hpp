@@ -139,6 +139,9 @@ class CanonicalLine {
   CanonicalLine& word(std::string_view w);
 
  private:
+  template <typename T>
+  CanonicalLine& number(T v);
+
   std::string& m_out;
 };
 
