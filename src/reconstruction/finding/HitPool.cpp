@@ -129,6 +129,14 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
     }
     m_layerBins.push_back(b);
   }
+  m_layerWs.resize(m_layerHits.size());
+  for (std::size_t k = 0; k < m_layers.size(); ++k) {
+    const bool alongZ = m_layerBins[k].alongZ;
+    for (std::uint32_t i = m_layerRange[k].first; i < m_layerRange[k].second;
+         ++i) {
+      m_layerWs[i] = alongZ ? hits.z[m_layerHits[i]] : hits.radius[m_layerHits[i]];
+    }
+  }
   m_box = {std::numeric_limits<double>::infinity(),
            -std::numeric_limits<double>::infinity(),
            std::numeric_limits<double>::infinity(),
@@ -313,19 +321,16 @@ void HitPool::collectLayer(std::size_t k, double wLo, double wHi, double phi,
     }
     return;
   }
-  const std::size_t before = out.size();
+  // The long coordinates are stored in the layer's azimuth order, so the
+  // test reads them in sequence (not scattered over the event's hits).
   auto [begin, end] = m_layerRange[k];
-  detail::collectPhiWindow(m_layerPhis, m_layerHits, begin, end, phi, halfWidth,
-                           out);
-  const std::vector<double>& w = bins.alongZ ? m_hits->z : m_hits->radius;
-  std::size_t kept = before;
-  for (std::size_t i = before; i < out.size(); ++i) {
-    const double wi = w[out[i]];
-    if (wi >= wLo && wi <= wHi) {
-      out[kept++] = out[i];
-    }
-  }
-  out.resize(kept);
+  const double* w = m_layerWs.data();
+  detail::forEachInPhiWindow(m_layerPhis, begin, end, phi, halfWidth,
+                             [&](std::size_t i) {
+                               if (w[i] >= wLo && w[i] <= wHi) {
+                                 out.push_back(m_layerHits[i]);
+                               }
+                             });
 }
 
 }  // namespace conftrack

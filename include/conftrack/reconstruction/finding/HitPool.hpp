@@ -155,6 +155,9 @@ class HitPool {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_binRange;
   std::vector<ConfIndex> m_binHits;
   std::vector<double> m_binPhis;
+  /// Each layer member's long coordinate (z or R, as its LayerBins),
+  /// parallel to m_layerHits.
+  std::vector<double> m_layerWs;
 };
 
 }  // namespace conftrack

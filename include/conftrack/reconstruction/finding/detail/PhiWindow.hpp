@@ -32,17 +32,20 @@ struct TrigCache {
   }
 };
 
-/// Appends the entries of the phi-sorted range [begin, end) of `phis`
-/// (ids parallel) within halfWidth of phi, wrapping at +-pi.
-inline void collectPhiWindow(const std::vector<double>& phis,
-                             const std::vector<ConfIndex>& ids,
-                             std::size_t begin, std::size_t end, double phi,
-                             double halfWidth, std::vector<ConfIndex>& out) {
+/// Calls visit(i) for each index i of the phi-sorted range [begin, end) of
+/// `phis` within halfWidth of phi, wrapping at +-pi, in the order of the
+/// range (from -pi on each side of the wrap).
+template <typename Visit>
+inline void forEachInPhiWindow(const std::vector<double>& phis,
+                               std::size_t begin, std::size_t end, double phi,
+                               double halfWidth, Visit&& visit) {
   auto scan = [&](double lo, double hi) {
     auto first = std::lower_bound(phis.begin() + begin, phis.begin() + end, lo);
     auto last = std::upper_bound(first, phis.begin() + end, hi);
-    for (auto it = first; it != last; ++it) {
-      out.push_back(ids[it - phis.begin()]);
+    const auto firstIndex = static_cast<std::size_t>(first - phis.begin());
+    const auto lastIndex = static_cast<std::size_t>(last - phis.begin());
+    for (std::size_t i = firstIndex; i != lastIndex; ++i) {
+      visit(i);
     }
   };
   if (halfWidth >= std::numbers::pi) {
@@ -58,6 +61,16 @@ inline void collectPhiWindow(const std::vector<double>& phis,
   if (hi > std::numbers::pi) {
     scan(-std::numbers::pi, hi - kTwoPi);
   }
+}
+
+/// Appends the entries of the phi-sorted range [begin, end) of `phis`
+/// (ids parallel) within halfWidth of phi, wrapping at +-pi.
+inline void collectPhiWindow(const std::vector<double>& phis,
+                             const std::vector<ConfIndex>& ids,
+                             std::size_t begin, std::size_t end, double phi,
+                             double halfWidth, std::vector<ConfIndex>& out) {
+  forEachInPhiWindow(phis, begin, end, phi, halfWidth,
+                     [&](std::size_t i) { out.push_back(ids[i]); });
 }
 
 }  // namespace conftrack::detail
