@@ -381,6 +381,93 @@ TEST(TrackMerging, AnotherLooperOnANearbyCircleIsKept) {
   EXPECT_EQ(f.state->tracks.size(), 2u);
 }
 
+TEST(TrackMerging, FurtherTurnShrunkByEnergyLossIsRecognised) {
+  // Energy lost over the first half-turn: the incoming half-turn lies on a
+  // circle 13 mm smaller round the same centre, all its hits 13 mm inside
+  // the first half-turn's circle (beyond the 10 mm turn distance). Their
+  // distance is nearly constant (spread < 0.1 mm), and its mean is
+  // divided by 1 + path / (1 m * p / 1 GeV): p = 0.084 GeV, 40-260 mm of
+  // path, a factor of about 2.7.
+  constexpr double kLoopRho = 70.0;
+  constexpr double kLoss = 13.0;
+  std::vector<Hit> hits;
+  {
+    Fixture probe;
+    hits = looperHits(probe.det, kLoopRho, 0.05);
+  }
+  const Vector2 centre(kLoopRho * std::sin(kPhi0), -kLoopRho * std::cos(kPhi0));
+  for (Hit& h : hits) {
+    if (h.id > 50) {
+      const Vector2 out =
+          (h.position.head<2>() - centre).normalized() * (kLoopRho - kLoss);
+      h.position.x() = centre.x() + out.x();
+      h.position.y() = centre.y() + out.y();
+    }
+  }
+  Fixture f;
+  f.hits = hits;
+  f.cfg.steps[0].chi2Cut = 1e9;
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+
+  // Without the path's allowance the 13 mm are refused.
+  Fixture g;
+  g.hits = hits;
+  g.cfg.steps[0].chi2Cut = 1e9;
+  g.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  detail::TrackMerger::Config cfg;
+  cfg.turnDzPathScale = 1e12;
+  EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
+}
+
+TEST(TrackMerging, NeighbourBesideTheFirstHalfTurnIsKept) {
+  // A second low-momentum particle 0.02 rad beside the looper's first
+  // half-turn (1.4 mm away, the same tanLambda), found on four of the same
+  // layers: its hits lie on the first one's circle and helix, but beside
+  // its hits on their own layers, which no piece of the same half-turn
+  // does. It is not a further turn: a whole turn on, its z is 220 mm off.
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.5);
+  std::vector<Hit> other = looperHits(f.det, 70.0, 0.5, kPhi0 + 0.02, 101);
+  f.hits.insert(f.hits.end(), other.begin(), other.end());
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {102, 103, 104, 105}});
+  EXPECT_EQ(f.merge(), 0u);
+  EXPECT_EQ(f.state->tracks.size(), 2u);
+}
+
+TEST(TrackMerging, NextOutgoingTurnBesideTheFirstIsDropped) {
+  // The same looper a whole turn later (z 22 mm on: tanLambda 0.05, 440
+  // mm per turn), 1 mm inside its first half-turn: beside its hits on the
+  // same layers, so not a piece of the first half-turn, and on its helix
+  // one turn on.
+  Fixture f;
+  constexpr double kLoopRho = 70.0;
+  constexpr double kTanLambda = 0.05;
+  f.hits = looperHits(f.det, kLoopRho, kTanLambda);
+  const Vector2 centre(kLoopRho * std::sin(kPhi0), -kLoopRho * std::cos(kPhi0));
+  std::vector<Hit> next;
+  for (const Hit& h : f.hits) {
+    if (h.id >= 2 && h.id <= 6) {
+      Hit n = h;
+      const Vector2 out =
+          (h.position.head<2>() - centre).normalized() * (kLoopRho - 1.0);
+      n.position.x() = centre.x() + out.x();
+      n.position.y() = centre.y() + out.y();
+      n.position.z() += 2.0 * std::numbers::pi * kLoopRho * kTanLambda;
+      n.id = h.id + 200;
+      next.push_back(n);
+    }
+  }
+  f.hits.insert(f.hits.end(), next.begin(), next.end());
+  f.cfg.steps[0].chi2Cut = 1e9;
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {202, 203, 204, 205, 206}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
 TEST(TrackMerging, ChainKeysAreRead) {
   const Detector det = test::barrelDetector();
   const FinderConfig c = parseChain(

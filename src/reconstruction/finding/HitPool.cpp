@@ -134,7 +134,8 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
     const bool alongZ = m_layerBins[k].alongZ;
     for (std::uint32_t i = m_layerRange[k].first; i < m_layerRange[k].second;
          ++i) {
-      m_layerWs[i] = alongZ ? hits.z[m_layerHits[i]] : hits.radius[m_layerHits[i]];
+      m_layerWs[i] =
+          alongZ ? hits.z[m_layerHits[i]] : hits.radius[m_layerHits[i]];
     }
   }
   m_box = {std::numeric_limits<double>::infinity(),

@@ -48,9 +48,12 @@ class TrackMerger {
     /// more turns on. Only tracks whose circle fits inside
     /// maxLoopDiameter can loop.
     bool dropTurns = true;
-    /// Largest distance of a further turn's hits from the first
-    /// half-turn's circle, and of its circle's centre and radius from
-    /// that circle's [mm] (mergeTracks: FinderConfig::mergeMaxDistance).
+    /// Largest variation along a further turn of its hits' distance from
+    /// the first half-turn's circle, and largest mean of that distance
+    /// divided by 1 + path / scale as the z distance (turnDzPathScale)
+    /// [mm] (mergeTracks: FinderConfig::mergeMaxDistance). A turn on a
+    /// circle that energy loss has shrunk lies at a nearly constant
+    /// distance; another particle's track crossing the circle does not.
     /// Twice that on CLICdet tt-bar + 30 BX (100 events) took the
     /// duplicate rate from 5.7 % to 4.7 % but lost 0.16 % of the particles
     /// of 0.1-1 GeV: turns far off their first half-turn's circle are not
@@ -69,12 +72,12 @@ class TrackMerger {
     /// those of tanLambda (the second turn crossed in the opposite sense
     /// has the opposite sign), of the circle centres [mm], the largest z
     /// distance of a turn hit from the first half-turn's helix at the best
-    /// whole number of turns [mm], and the largest transverse distance of
-    /// a turn hit from its circle [mm]. The scales are the typical values
-    /// of true further turns on CLICdet tt-bar + 30 BX (medians 0.019, 4,
-    /// 2.3 and 1.2); another particle on a nearby circle differs most in
-    /// tanLambda (median 0.16), which the position gates alone miss for
-    /// central loopers, whose z advances by millimetres per turn.
+    /// whole number of turns [mm], and the transverse distance of
+    /// maxTurnDistance [mm] (both divided as turnDzPathScale says). The scales
+    /// are the typical values of true further turns on CLICdet tt-bar + 30 BX
+    /// (medians 0.019, 4, 2.3 and 1.2); another particle on a nearby circle
+    /// differs most in tanLambda (median 0.16), which the position gates alone
+    /// miss for central loopers, whose z advances by millimetres per turn.
     double turnScaleTanLambda = 0.03;
     /// Scale of the circle-centre difference in the turn score [mm].
     double turnScaleCentre = 8.0;
@@ -83,16 +86,20 @@ class TrackMerger {
     /// Scale of the transverse hit distance in the turn score [mm].
     double turnScaleDistance = 3.0;
     /// Largest turn score of a dropped turn (CLICdet tt-bar + 30 BX, 100
-    /// events: 12 gives 4.05 % duplicates and 97.54 % at 0.1-1 GeV, 16
-    /// 3.68 % and 97.51 %, 25 3.30 % and 97.47 %).
+    /// events: 12 gives 2.74 % duplicates and 97.54 % at 0.1-1 GeV, 16
+    /// 2.49 % and 97.54 %, 25 2.26 % and 97.41 %; before the distance's
+    /// path allowance, 12 4.05 %, 16 3.68 %, 25 3.30 %).
     double maxTurnScore = 16.0;
-    /// The z distance of a turn hit from the first half-turn's helix is
-    /// divided by 1 + path / turnDzPathScale, path being its arc length
-    /// from the first half-turn's last hit [mm]: scattering and the
-    /// tanLambda error make the z of a turn a metre on uncertain by tens
-    /// of millimetres (CLICdet tt-bar + 30 BX: the duplicate rate 5.3 ->
-    /// 5.05 %, 500 mm 4.98 %, 2 m 5.13 %, with one particle of 0.1-1 GeV
-    /// in 3047 lost).
+    /// The z distance of a turn hit from the first half-turn's helix, and
+    /// the mean transverse distance of its hits, are divided by
+    /// 1 + path / scale, path being the arc length from the first
+    /// half-turn's last hit [mm] and scale this value times p / 1 GeV
+    /// below 1 GeV (p of the first half-turn's free circle and
+    /// tanLambda): scattering, energy loss and the tanLambda error make
+    /// the position of a turn a metre on uncertain by tens of millimetres,
+    /// in proportion to 1 / p (CLICdet tt-bar + 30 BX, before the p
+    /// factor: the duplicate rate 5.3 -> 5.05 %, 500 mm 4.98 %, 2 m
+    /// 5.13 %, with one particle of 0.1-1 GeV in 3047 lost).
     double turnDzPathScale = 1000.0;
     /// Largest diameter of a circle that can loop inside the tracker [mm]:
     /// a particle through the beam line reaches twice its circle's radius,
