@@ -188,6 +188,21 @@ std::vector<Hit> looperHits(const Detector& det, double rho, double tanL,
   return hits;
 }
 
+/// Centre of the circle of looperHits(det, rho, ..., kPhi0).
+Vector2 looperCentre(double rho) {
+  return {rho * std::sin(kPhi0), -rho * std::cos(kPhi0)};
+}
+
+/// Moves a hit in (x, y) to `radius` from `centre`, in its direction seen
+/// from `from` (a circle shrunk round, or moved from, the looper's).
+void moveOntoCircle(Hit& h, const Vector2& from, const Vector2& centre,
+                    double radius) {
+  const Vector2 p =
+      centre + radius * (h.position.head<2>() - from).normalized();
+  h.position.x() = p.x();
+  h.position.y() = p.y();
+}
+
 TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
   Fixture f;
   // rho = 70 mm (0.084 GeV): reaches R = 140 mm, seven layers.
@@ -239,17 +254,11 @@ TEST(TrackMerging, ShrunkFurtherTurnIsRecognisedByItsFreeCircle) {
   constexpr double kLoopRho = 70.0;
   constexpr double kLoss = 4.0;
   f.hits = looperHits(f.det, kLoopRho, 0.05);
-  const Vector3 centre(kLoopRho * std::sin(kPhi0), -kLoopRho * std::cos(kPhi0),
-                       0.0);
-  const Vector3 shrunkCentre = centre + kLoss * centre.normalized();
+  const Vector2 centre = looperCentre(kLoopRho);
+  const Vector2 shrunkCentre = centre + kLoss * centre.normalized();
   for (Hit& h : f.hits) {
     if (h.id > 50) {
-      const Vector3 out =
-          Vector3(h.position.x() - centre.x(), h.position.y() - centre.y(), 0.0)
-              .normalized();
-      const Vector3 p = shrunkCentre + (kLoopRho - kLoss) * out;
-      h.position.x() = p.x();
-      h.position.y() = p.y();
+      moveOntoCircle(h, centre, shrunkCentre, kLoopRho - kLoss);
     }
   }
   // The piece fails a circle-through-the-origin cut (an extension, not a
@@ -390,18 +399,11 @@ TEST(TrackMerging, FurtherTurnShrunkByEnergyLossIsRecognised) {
   // path, a factor of about 2.7.
   constexpr double kLoopRho = 70.0;
   constexpr double kLoss = 13.0;
-  std::vector<Hit> hits;
-  {
-    Fixture probe;
-    hits = looperHits(probe.det, kLoopRho, 0.05);
-  }
-  const Vector2 centre(kLoopRho * std::sin(kPhi0), -kLoopRho * std::cos(kPhi0));
+  std::vector<Hit> hits = looperHits(test::barrelDetector(), kLoopRho, 0.05);
+  const Vector2 centre = looperCentre(kLoopRho);
   for (Hit& h : hits) {
     if (h.id > 50) {
-      const Vector2 out =
-          (h.position.head<2>() - centre).normalized() * (kLoopRho - kLoss);
-      h.position.x() = centre.x() + out.x();
-      h.position.y() = centre.y() + out.y();
+      moveOntoCircle(h, centre, centre, kLoopRho - kLoss);
     }
   }
   Fixture f;
@@ -446,15 +448,12 @@ TEST(TrackMerging, NextOutgoingTurnBesideTheFirstIsDropped) {
   constexpr double kLoopRho = 70.0;
   constexpr double kTanLambda = 0.05;
   f.hits = looperHits(f.det, kLoopRho, kTanLambda);
-  const Vector2 centre(kLoopRho * std::sin(kPhi0), -kLoopRho * std::cos(kPhi0));
+  const Vector2 centre = looperCentre(kLoopRho);
   std::vector<Hit> next;
   for (const Hit& h : f.hits) {
     if (h.id >= 2 && h.id <= 6) {
       Hit n = h;
-      const Vector2 out =
-          (h.position.head<2>() - centre).normalized() * (kLoopRho - 1.0);
-      n.position.x() = centre.x() + out.x();
-      n.position.y() = centre.y() + out.y();
+      moveOntoCircle(n, centre, centre, kLoopRho - 1.0);
       n.position.z() += 2.0 * std::numbers::pi * kLoopRho * kTanLambda;
       n.id = h.id + 200;
       next.push_back(n);

@@ -191,16 +191,33 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   // as an outgoing track of opposite charge) runs backwards in z.
   const double sense = first.uv.orientation == turn.uv.orientation ? 1.0 : -1.0;
   const double dTanLambda = turn.sz.tanLambda - sense * first.sz.tanLambda;
+  // Energy loss shrinks the circle from turn to turn: a further turn's
+  // few hits lie at a nearly constant distance from the first half-turn's
+  // circle, which grows with the path. The spread of that distance is
+  // tested as it is (first: it needs no arc lengths), its mean below with
+  // the path's allowance (a track of another particle crosses the circle:
+  // its distance varies along it).
+  double sumOff = 0.0;
+  double minOff = std::numeric_limits<double>::infinity();
+  double maxOff = -minOff;
+  for (ConfIndex h : turn.hits) {
+    const double d =
+        norm2(m_hits.x[h] - firstCircle.cx, m_hits.y[h] - firstCircle.cy) -
+        radius;
+    sumOff += d;
+    minOff = std::min(minOff, d);
+    maxOff = std::max(maxOff, d);
+  }
+  const double meanOff = sumOff / static_cast<double>(turn.hits.size());
+  const double spread = std::max(maxOff - meanOff, meanOff - minOff);
+  if (!(spread <= m_config.maxTurnDistance)) {
+    return false;
+  }
   const ArcFrame arc = makeArcFrame(first.uv, m_hits, first.hits.front());
   const double period = 2.0 * std::numbers::pi * arc.radius;
   std::vector<double> s;
-  std::vector<double> offCircle;
   s.reserve(turn.hits.size());
-  offCircle.reserve(turn.hits.size());
   for (ConfIndex h : turn.hits) {
-    offCircle.push_back(
-        norm2(m_hits.x[h] - firstCircle.cx, m_hits.y[h] - firstCircle.cy) -
-        radius);
     // Continued from the previous hit: a turn that crosses the far side
     // of the circle (the first hit's azimuth + pi) would otherwise jump
     // by a period between its hits and match no single turn number.
@@ -213,11 +230,9 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   // proportion to p below 1 GeV. (CLICdet tt-bar + 30 BX, 100 events: the
   // duplicate rate 3.29 -> 3.04 % for the z test alone, no particle lost.)
   const double momentum =
-      constants::kPtPerTeslaMm * std::abs(m_state.bzForPt) * radius *
-      std::sqrt(1.0 + first.sz.tanLambda * first.sz.tanLambda);
+      circlePt(firstCircle, m_state.bzForPt) * norm2(1.0, first.sz.tanLambda);
   const double pathScale =
       m_config.turnDzPathScale * std::min(1.0, momentum / units::GeV);
-  double bestDz = std::numeric_limits<double>::infinity();
   // Crossed in the same sense with k = 0, the track would be a piece of
   // the first half-turn itself, and such a piece lies before or after the
   // first one's hits along the arc, never beside them on the same layers.
@@ -245,6 +260,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   // The z test takes the best whole number of turns k; the transverse
   // one below the shortest path among those that pass it (a central
   // looper's z fits every k alike).
+  double bestDz = std::numeric_limits<double>::infinity();
   double meanPath = std::numeric_limits<double>::infinity();
   for (int k = -kMaxTurns; k <= kMaxTurns; ++k) {
     if (k == 0 && besideFirst) {
@@ -267,25 +283,11 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   if (!(bestDz <= m_config.maxDz)) {
     return false;
   }
-  // Energy loss shrinks the circle from turn to turn: a further turn's
-  // few hits lie at a nearly constant distance from the first half-turn's
-  // circle, which grows with the path. The spread of that distance is
-  // tested as it is, its mean with the path's allowance (a track of
-  // another particle crosses the circle: its distance varies along it).
-  double mean = 0.0;
-  for (double d : offCircle) {
-    mean += d;
-  }
-  mean /= static_cast<double>(offCircle.size());
-  double spread = 0.0;
-  for (double d : offCircle) {
-    spread = std::max(spread, std::abs(d - mean));
-  }
-  const double distance =
-      std::max(spread, std::abs(mean) / (1.0 + meanPath / pathScale));
-  if (!(distance <= m_config.maxTurnDistance)) {
+  const double meanDistance = std::abs(meanOff) / (1.0 + meanPath / pathScale);
+  if (!(meanDistance <= m_config.maxTurnDistance)) {
     return false;
   }
+  const double distance = std::max(spread, meanDistance);
   const auto square = [](double x) { return x * x; };
   const double score = square(dTanLambda / m_config.turnScaleTanLambda) +
                        square(centreDistance / m_config.turnScaleCentre) +
