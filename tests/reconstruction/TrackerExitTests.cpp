@@ -2,7 +2,9 @@
 /// Extensions end where a track leaves the tracker: a disk crossing that
 /// the helix reaches only after passing the tracker's outer radius is not
 /// predicted (on TrackML events such crossings, a turn later, gave tracks
-/// endcap hits of other particles and derailed their fits).
+/// endcap hits of other particles and derailed their fits). Where the
+/// chain says particles end after half a turn (max_track_turns), they end
+/// there too.
 
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 
@@ -10,6 +12,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "SyntheticHits.hpp"
@@ -43,7 +46,8 @@ Vector3 helixPoint(double rho, double phi0, double tanL, double s) {
 
 /// Hits of the helix on the 8 barrel layers plus one on the disk at its
 /// crossing at arc length sDisk; the number of hits on the found track.
-std::size_t hitsOnTrack(double rho, double tanL, double sDisk) {
+std::size_t hitsOnTrack(double rho, double tanL, double sDisk,
+                        double maxTrackTurns = 0.0) {
   const Detector det = test::barrelDetector();
   constexpr double kPhi0 = 0.3;
   std::vector<Hit> hits = test::helixHits(det, rho, kPhi0, +1, tanL, 1);
@@ -59,8 +63,9 @@ std::size_t hitsOnTrack(double rho, double tanL, double sDisk) {
   }
   EXPECT_NE(disk, 0u);
   hits.push_back(test::barrelHit(det, disk, p.x(), p.y(), p.z(), 100));
-  const FindingResult r =
-      ConformalTrackFinder(det, {buildThenDisk()}).run(hits);
+  FinderConfig cfg = buildThenDisk();
+  cfg.maxTrackTurns = maxTrackTurns;
+  const FindingResult r = ConformalTrackFinder(det, {cfg}).run(hits);
   EXPECT_EQ(r.tracks.size(), 1u);
   return r.tracks.empty() ? 0 : r.tracks.front().hits.size();
 }
@@ -82,6 +87,27 @@ TEST(TrackerExit, DiskCrossingAfterTheExitIsNot) {
   const double r = helixPoint(rho, 0.3, 1.0, sDisk).head<2>().norm();
   ASSERT_LT(r, 300.0);
   EXPECT_EQ(hitsOnTrack(rho, 600.0 / sDisk, sDisk), 8u);
+}
+
+TEST(TrackerExit, CrossingPastTheTurnLimitIsNot) {
+  // Radius 90 mm: the circle stays inside the tracker (out to R = 180 mm)
+  // and comes back through the disk's R range after half a turn (R = 123
+  // mm at s = 430 mm, half a turn being 283 mm). A detector simulation
+  // that ends particles after half a turn (TrackML) can have no hit of
+  // this particle there: taken without a limit, not with one of 0.5.
+  const double rho = 90.0;
+  const double sDisk = 2.0 * rho * (std::numbers::pi - 0.75);
+  ASSERT_GT(sDisk, std::numbers::pi * rho);
+  const double tanL = 600.0 / sDisk;
+  EXPECT_EQ(hitsOnTrack(rho, tanL, sDisk), 9u);
+  EXPECT_EQ(hitsOnTrack(rho, tanL, sDisk, 0.5), 8u);
+}
+
+TEST(TrackerExit, TurnLimitIsValidated) {
+  FinderConfig cfg = buildThenDisk();
+  cfg.maxTrackTurns = -0.5;
+  EXPECT_THROW(ConformalTrackFinder(test::barrelDetector(), {cfg}),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -204,6 +204,7 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         quantity(f, "overlap_max_arc_mm", units::mm, cfg.overlapMaxArc);
     cfg.overlapMaxGap =
         quantity(f, "overlap_max_gap_mm", units::mm, cfg.overlapMaxGap);
+    cfg.maxTrackTurns = quantity(f, "max_track_turns", 1.0, cfg.maxTrackTurns);
     cfg.trackMerging = f.getBool("track_merging", cfg.trackMerging);
     cfg.mergeMaxDeltaPhi =
         quantity(f, "merge_max_dphi", units::rad, cfg.mergeMaxDeltaPhi);

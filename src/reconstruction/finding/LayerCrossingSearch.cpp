@@ -179,6 +179,11 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
         sExit = std::min(sExit, after(arc.arcLength(x, y, sLast)));
       }
     }
+    // Where the data's particles end after a fraction of a turn
+    // (FinderConfig::maxTrackTurns), measured from the track's first hit.
+    if (m_state.config.maxTrackTurns > 0.0) {
+      sExit = std::min(sExit, m_state.config.maxTrackTurns * turn);
+    }
   }
   // In a non-uniform field the circle is the track's in the conformal map
   // of makeConformalHits: it passes the azimuth of a crossing at radius

@@ -290,6 +290,14 @@ struct FinderConfig {
   /// Largest distance of two sensors of one layer along its normal
   /// (radial on barrels, z on disks) [mm] (chain key overlap_max_gap_mm).
   double overlapMaxGap = 12.0 * units::mm;
+  /// Largest arc length of a conformal track's predicted layer crossings
+  /// from its first hit, in turns of its circle (0: no limit, the default).
+  /// Where the data's simulation ends particles after half a turn (the
+  /// TrackML files, ACTS's loop protection: docs/validation.md item 1), a
+  /// crossing further on can only give another particle's hit, and a hit
+  /// there placed at the wrong end of the track's (s, z) line spoils its
+  /// fit (chain key max_track_turns). A conftrack addition (issue 15).
+  double maxTrackTurns = 0.0;
   /// The vertex-z pre-pass, run once per event before the first step
   /// (unset: not run, the default). Its vertex regions are the seeds' z
   /// windows of the steps with a finite FindingStep::vertexWindow.
