@@ -101,6 +101,11 @@ TEST(HelixStep, KeysAreValidated) {
                        "max_d0_mm = 0.0\n")
                 .find("max_d0_mm"),
             std::string::npos);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "max_seed_gap_mm = -1.0\n")
+                .find("max_seed_gap_mm"),
+            std::string::npos);
+  EXPECT_EQ(ok.steps[0].maxSeedGap, 0.0);
   // Defaults of a step without the action: no pT floor, no d0 cut.
   const FinderConfig plain =
       parseChain(minimalStep("VertexBarrel"), "chain.toml", clicdet());
@@ -255,6 +260,64 @@ TEST(HelixStep, AcceptedTracksAreFollowedOnPastAGap) {
   EXPECT_EQ(before.beyond, 0u);
   EXPECT_EQ(after.tracks, before.tracks);
   EXPECT_GE(after.beyond, before.atGap - before.atGap / 10);
+}
+
+TEST(HelixStep, AdjacentLayersBeyondTheSeedLengthPairWithMaxSeedGap) {
+  // Forward 5 GeV muons (12-16 degrees) through CLICdet's inner-tracker
+  // disks, 284 mm apart, with 250 mm seeds: no seed can join two disks,
+  // so a helix step over those disks alone finds nothing. With
+  // max_seed_gap_mm = 300 adjacent disks pair (a seed segment reaching
+  // 250 mm beyond their distance) and the muons are found; disks two
+  // apart (568 mm) still do not pair, so a seed skips no disk.
+  const Detector& det = clicdet();
+  const std::string keys =
+      "max_seed_length_mm = 250.0\nmin_pt_GeV = 0.5\nmax_missed_layers = 0\n";
+  const std::string collections = "\"InnerTrackerEndcap\"";
+  const ConformalTrackFinder plain(
+      det, {parseChain(helixStep(keys, collections), "chain.toml", det)});
+  const ConformalTrackFinder gap(
+      det,
+      {parseChain(helixStep(keys + "max_seed_gap_mm = 300.0\n", collections),
+                  "chain.toml", det)});
+  const EventSimulation sim =
+      muonGun(17, "p_GeV = 5.0\ntheta_min_deg = 12.0\ntheta_max_deg = 16.0\n");
+  const auto disks = det.findSubdetector("InnerTrackerEndcap");
+  ASSERT_TRUE(disks.has_value());
+  constexpr std::size_t kEvents = 40;
+  std::size_t plainTracks = 0;
+  std::size_t gapTracks = 0;
+  std::size_t found = 0;
+  std::size_t skipped = 0;
+  for (std::size_t e = 0; e < kEvents; ++e) {
+    const Event ev = sim.simulate(e + 1);
+    plainTracks += plain.run(ev.hits).tracks.size();
+    const FindingResult r = gap.run(ev.hits);
+    std::size_t muonHits = 0;  // on the inner-tracker disks
+    for (HitIndex h = 0; h < ev.hits.size(); ++h) {
+      muonHits +=
+          ev.truth[h].particleId != 0 && ev.hits[h].detId.subdetector == *disks
+              ? 1
+              : 0;
+    }
+    gapTracks += r.tracks.size();
+    for (const FoundTrack& t : r.tracks) {
+      found += t.hits.size() + 1 >= muonHits ? 1 : 0;
+      // Consecutive hits on disks at most one apart (284 mm in z).
+      for (std::size_t k = 1; k < t.hits.size(); ++k) {
+        const double dz = std::abs(ev.hits[t.hits[k]].position.z() -
+                                   ev.hits[t.hits[k - 1]].position.z());
+        skipped += dz > 400.0 ? 1 : 0;
+      }
+    }
+  }
+  std::printf(
+      "[ forward 5 GeV muons, disks 284 mm apart, 250 mm seeds ] %zu tracks "
+      "without max_seed_gap_mm; with it %zu tracks, %zu of %zu muons found "
+      "whole\n",
+      plainTracks, gapTracks, found, kEvents);
+  EXPECT_EQ(plainTracks, 0u);
+  EXPECT_GE(found, kEvents * 9 / 10);
+  EXPECT_EQ(skipped, 0u);
 }
 
 TEST(HelixStep, PathsEndAfterHalfATurn) {

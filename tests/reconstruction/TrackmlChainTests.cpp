@@ -391,7 +391,9 @@ TrackmlScore scoreEvent1001(const char* label,
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   const TrackmlScore score = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
-  // Measured 0.8659, fake rate 0.011 (0.8581 and 0.013 before extensions
+  // Measured 0.8677, fake rate 0.011 (0.8659 before the pixel helix step's
+  // seeds crossed the 200 mm gaps between the outer disks; 0.8581 and
+  // 0.013 before extensions
   // ended half a turn from a track's first hit, max_track_turns; 0.8558
   // and 0.011 before the strip
   // helix step's 5-hit tracks judged by the selection's short-track rule;
@@ -432,8 +434,9 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001WithHlLhcLength) {
   // The same event with its interactions moved to sigma_z = 50 mm
   // (--luminous-region hllhc): the seeds' z windows follow the vertices
   // found by the vertex-z pre-pass (docs/algorithm.md 3.16), so the score
-  // stays near that of the Kaggle length (measured 0.8579 against 0.8659,
-  // fake rate 0.022 against 0.011; 0.8510 and 0.023 before extensions
+  // stays near that of the Kaggle length (measured 0.8600 against 0.8677,
+  // fake rate 0.022 against 0.011; 0.8579 before the seeds crossed the
+  // outer pixel disks' gaps, 0.8510 and 0.023 before extensions
   // ended half a turn from a track's first hit, 0.8491 and 0.022 before
   // the short-track
   // rule, 0.8456 before the finder's shared-hit resolution, 0.8434 before

@@ -133,6 +133,9 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
               {"max_seed_z0_mm", s.maxSeedZ0, mm, Range::positive()},
               {"vertex_window_mm", s.vertexWindow, mm, Range::positive()},
               {"max_seed_length_mm", s.maxSeedLength, mm, Range::positive()},
+              // 0: no pairs beyond max_seed_length_mm.
+              {"max_seed_gap_mm", s.maxSeedGap, mm,
+               Range::closed(0.0, 100000.0)},
               {"max_seed_cells", static_cast<double>(s.maxSeedCells), one,
                Range::closed(0, 1e6)},
               // 0: only the finder's max_paths_per_seed.

@@ -101,6 +101,7 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
   s.maxSeedZ0 = quantity(t, "max_seed_z0_mm", mm, s.maxSeedZ0);
   s.vertexWindow = quantity(t, "vertex_window_mm", mm, s.vertexWindow);
   s.maxSeedLength = quantity(t, "max_seed_length_mm", mm, s.maxSeedLength);
+  s.maxSeedGap = quantity(t, "max_seed_gap_mm", mm, s.maxSeedGap);
   s.maxSeedCells = count(t, "max_seed_cells", s.maxSeedCells);
   s.maxPaths = count(t, "max_paths", s.maxPaths);
   s.minPt = quantity(t, "min_pt_GeV", GeV, s.minPt);

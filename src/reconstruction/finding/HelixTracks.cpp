@@ -10,7 +10,8 @@
 // build them. This builder works in real space instead:
 // - Seeds are triplets of unused hits on consecutive layers (the straight
 //   line between two seed hits must not pass well inside another layer),
-//   each within maxSeedLength of the previous one and further out (larger
+//   each within maxSeedLength of the previous one (further between
+//   adjacent layers up to maxSeedGap apart) and further out (larger
 //   radius on a barrel layer, larger |z| on a disk). The third hit is
 //   searched only around the doublet's chord extended to the next layer,
 //   as wide as a track of pT >= minPt can bend. The circle through the
@@ -88,13 +89,21 @@ class HelixBuilder {
       m_maxTheta0[a] = m_follower.theta0(a, step.minPt, 0.0);
     }
     // The pool's layers within maxSeedLength of each layer: the only ones
-    // a seed looks at.
+    // a seed looks at. Adjacent layers up to maxSeedGap apart pair too, a
+    // segment between them reaching maxSeedLength beyond their distance
+    // (FindingStep::maxSeedGap).
     const std::vector<std::uint32_t>& layers = m_pool.layers();
-    m_near.resize(m_layers.size());
+    const std::size_t n = m_layers.size();
+    m_near.resize(n);
+    m_seedLength.assign(n * n, step.maxSeedLength);
     for (std::uint32_t a : layers) {
       for (std::uint32_t b : layers) {
-        if (layerDistance(m_layers[a], m_layers[b]) <= step.maxSeedLength) {
+        const double gap = layerDistance(m_layers[a], m_layers[b]);
+        if (gap <= step.maxSeedLength) {
           m_near[a].push_back(b);
+        } else if (gap <= step.maxSeedGap && adjacent(a, b, gap)) {
+          m_near[a].push_back(b);
+          m_seedLength[a * n + b] = norm2(step.maxSeedLength, gap);
         }
       }
     }
@@ -136,6 +145,28 @@ class HelixBuilder {
   }
 
  private:
+  /// True if no other layer of the pool lies between layers a and b, gap
+  /// apart (its distances to both add up to theirs within 1 mm).
+  bool adjacent(std::uint32_t a, std::uint32_t b, double gap) const {
+    if (a == b) {
+      return false;
+    }
+    for (std::uint32_t c : m_pool.layers()) {
+      if (c != a && c != b &&
+          layerDistance(m_layers[a], m_layers[c]) +
+                  layerDistance(m_layers[c], m_layers[b]) <=
+              gap + 1.0) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /// The longest seed segment from a hit on layer a to one on layer b.
+  double seedLength(std::uint32_t a, std::uint32_t b) const {
+    return m_seedLength[a * m_layers.size() + b];
+  }
+
   bool seedAllowed(ConfIndex h) const {
     const auto& seeds = m_step.seedCollections;
     return seeds.empty() || std::find(seeds.begin(), seeds.end(),
@@ -190,13 +221,13 @@ class HelixBuilder {
   /// than its own, further out (outwards()); sorted by index.
   void neighbours(ConfIndex from, std::vector<ConfIndex>& out) {
     out.clear();
-    const double len = m_step.maxSeedLength;
     const double r1 = m_hits.radius[from];
     const double z1 = m_hits.z[from];
     for (std::uint32_t layer : m_near[m_hits.layer[from]]) {
       if (layer == m_hits.layer[from]) {
         continue;
       }
+      const double len = seedLength(m_hits.layer[from], layer);
       const SensitiveLayer& l = m_layers[layer];
       double dphi = std::numbers::pi;
       if (l.isDisk()) {
@@ -253,7 +284,6 @@ class HelixBuilder {
   void thirdCandidates(ConfIndex h1, ConfIndex h2,
                        std::vector<ConfIndex>& out) {
     out.clear();
-    const double len = m_step.maxSeedLength;
     const double x2 = m_hits.x[h2];
     const double y2 = m_hits.y[h2];
     const double z2 = m_hits.z[h2];
@@ -300,7 +330,8 @@ class HelixBuilder {
         const double z = z2 + t12 * lambda;
         inside = z > l.zMin + kHelixEdgeMargin && z < l.zMax - kHelixEdgeMargin;
       }
-      if (!(lambda > 0.0) || lambda * secL > len) {
+      if (!(lambda > 0.0) ||
+          lambda * secL > seedLength(m_hits.layer[h2], layer)) {
         continue;
       }
       m_layerSteps.emplace_back(lambda, layer);
@@ -504,6 +535,10 @@ class HelixBuilder {
   std::vector<double> m_maxTheta0;
   /// Per detector layer: the pool's layers within maxSeedLength.
   std::vector<std::vector<std::uint32_t>> m_near;
+  /// Per pair of detector layers (a * layers + b): the longest seed
+  /// segment between them (maxSeedLength, more between adjacent layers
+  /// further apart).
+  std::vector<double> m_seedLength;
 };
 
 }  // namespace

@@ -107,6 +107,13 @@ struct FindingStep {
   /// with hits many layers further in; a real track's first cell skips at
   /// most a layer or two.
   double maxSeedLength = std::numeric_limits<double>::infinity();
+  /// Helix steps: two adjacent layers (no layer between them) further
+  /// apart than maxSeedLength but at most this far [mm] still pair, a seed
+  /// segment between them reaching maxSeedLength beyond their distance
+  /// (0, the default: no such pairs). Without it the region past a gap
+  /// wider than the seed length (TrackML's outer pixel disks, 200 mm
+  /// apart) could not be seeded at all.
+  double maxSeedGap = 0.0;
   /// At most this many seed cells per seed, to its nearest neighbours (in
   /// the conformal plane with radial search, in azimuth otherwise) that
   /// pass the seed-cell cuts (0: all, as upstream). The paper seeds cells
