@@ -151,6 +151,9 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
               // 0: the step's chi2_cut.
               {"continue_chi2_cut", s.continueChi2Cut, one,
                Range{0.0, kInf, true, false}},
+              // 0: one pass.
+              {"first_pass_min_hits", static_cast<double>(s.firstPassMinHits),
+               one, Range::closed(0, 100)},
           },
           key)) {
     return problem(key, *what);

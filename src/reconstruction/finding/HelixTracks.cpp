@@ -33,7 +33,8 @@
 //   longest (then lowest chi2 per hit) is kept, followed on with up to
 //   continueMissedLayers crossings without a hit, and claims its hits at once;
 //   seed hits are taken innermost first, so the result does not depend on
-//   the input order.
+//   the input order. With firstPassMinHits, only candidates that long claim
+//   at once; the shorter wait for a second pass over the seeds.
 // - Once the triplets of the step exceed FinderConfig::maxCellsPerHit per
 //   pool hit, the remaining seed hits are skipped (counted): the triplets
 //   of a seed grow with the square of the hit density.
@@ -115,6 +116,13 @@ class HelixBuilder {
     const double budget =
         double(m_state.config.maxCellsPerHit) * double(m_pool.members().size());
     const std::vector<ConfIndex>& members = m_pool.members();
+    // With first_pass_min_hits, the first pass accepts only candidates of
+    // that many hits and keeps the shorter ones (those of minHits or more)
+    // for the second.
+    const bool twoPasses = m_step.firstPassMinHits > m_step.minHits;
+    const std::uint32_t firstMin =
+        twoPasses ? m_step.firstPassMinHits : m_step.minHits;
+    std::vector<std::pair<std::size_t, HelixPath>> waiting;
     for (std::size_t k = 0; k < members.size(); ++k) {
       const ConfIndex seed = members[k];
       if (m_state.used[seed] != 0 || !seedAllowed(seed)) {
@@ -131,16 +139,32 @@ class HelixBuilder {
       ++m_stats.seeds;
       HelixPath best;
       followSeed(seed, best);
-      if (best.hits.size() < m_step.minHits) {
+      if (best.hits.size() >= firstMin) {
+        acceptFollowedOn(best);
+      } else if (best.hits.size() >= m_step.minHits) {
+        waiting.emplace_back(k, std::move(best));
+      }
+    }
+    // The second pass, innermost seeds first as before. A candidate whose
+    // hits are all still free is taken as it is; otherwise its seed is
+    // followed again (a seed without a candidate in the first pass is not:
+    // hits claimed since only take options away).
+    for (auto& [k, best] : waiting) {
+      const ConfIndex seed = members[k];
+      if (m_state.used[seed] != 0) {
         continue;
       }
-      // Followed on past gaps (continue_missed_layers): it already is a
-      // track, and only its further hits are at stake.
-      if (m_continue.maxMissedLayers > m_build.maxMissedLayers ||
-          m_continue.chi2Cut > m_build.chi2Cut) {
-        m_follower.follow(best, m_continue);
+      const bool intact =
+          std::none_of(best.hits.begin(), best.hits.end(),
+                       [&](ConfIndex h) { return m_state.used[h] != 0; });
+      if (!intact) {
+        best = HelixPath{};
+        followSeed(seed, best);
+        if (best.hits.size() < m_step.minHits) {
+          continue;
+        }
       }
-      accept(best);
+      acceptFollowedOn(best);
     }
   }
 
@@ -481,6 +505,17 @@ class HelixBuilder {
       return qa < qb;
     }
     return a.hits < b.hits;
+  }
+
+  /// Follows an accepted candidate on past gaps (continue_missed_layers:
+  /// it already is a track, and only its further hits are at stake) and
+  /// accepts it.
+  void acceptFollowedOn(HelixPath& best) {
+    if (m_continue.maxMissedLayers > m_build.maxMissedLayers ||
+        m_continue.chi2Cut > m_build.chi2Cut) {
+      m_follower.follow(best, m_continue);
+    }
+    accept(best);
   }
 
   void accept(const HelixPath& p) {

@@ -148,6 +148,13 @@ struct FindingStep {
   /// allows at low momentum, where the hit errors are small against the
   /// scattering (the helix filter only knows the last layer's).
   double continueChi2Cut = 0.0;
+  /// Helix steps: seeds whose best candidate has at least this many hits
+  /// accept it in a first pass over the seeds; the other candidates (at
+  /// least minHits) wait for a second pass, so that a short random helix
+  /// met early cannot take a hit of a long track met later (0, the
+  /// default, or at most minHits: one pass, each seed's candidate
+  /// accepted at once).
+  std::uint32_t firstPassMinHits = 0;
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).
