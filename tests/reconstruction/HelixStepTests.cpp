@@ -38,6 +38,14 @@ std::string helixStep(const std::string& extra,
          extra;
 }
 
+/// A finder of the one helix step helixStep(keys, collections) in CLICdet.
+ConformalTrackFinder helixFinder(const std::string& keys,
+                                 const std::string& collections) {
+  return ConformalTrackFinder(
+      clicdet(),
+      {parseChain(helixStep(keys, collections), "chain.toml", clicdet())});
+}
+
 /// A one-muon gun in CLICdet, charge random, with `keys` (momentum and
 /// angle or vertex ranges) appended to its [generator] table.
 EventSimulation muonGun(std::uint64_t seed, const std::string& keys) {
@@ -206,12 +214,9 @@ TEST(HelixStep, AcceptedTracksAreFollowedOnPastAGap) {
       "max_seed_length_mm = 200.0\nmin_pt_GeV = 0.5\nmax_missed_layers = 0\n";
   const std::string collections =
       "\"VertexBarrel\", \"InnerTrackerBarrel\", \"OuterTrackerBarrel\"";
-  const ConformalTrackFinder tight(
-      det, {parseChain(helixStep(keys, collections), "chain.toml", det)});
-  const ConformalTrackFinder continued(
-      det,
-      {parseChain(helixStep(keys + "continue_missed_layers = 1\n", collections),
-                  "chain.toml", det)});
+  const ConformalTrackFinder tight = helixFinder(keys, collections);
+  const ConformalTrackFinder continued =
+      helixFinder(keys + "continue_missed_layers = 1\n", collections);
   const EventSimulation sim =
       muonGun(13, "p_GeV = 5.0\ntheta_min_deg = 80.0\ntheta_max_deg = 100.0\n");
   const auto innerTracker = det.findSubdetector("InnerTrackerBarrel");
@@ -273,12 +278,9 @@ TEST(HelixStep, AdjacentLayersBeyondTheSeedLengthPairWithMaxSeedGap) {
   const std::string keys =
       "max_seed_length_mm = 250.0\nmin_pt_GeV = 0.5\nmax_missed_layers = 0\n";
   const std::string collections = "\"InnerTrackerEndcap\"";
-  const ConformalTrackFinder plain(
-      det, {parseChain(helixStep(keys, collections), "chain.toml", det)});
-  const ConformalTrackFinder gap(
-      det,
-      {parseChain(helixStep(keys + "max_seed_gap_mm = 300.0\n", collections),
-                  "chain.toml", det)});
+  const ConformalTrackFinder plain = helixFinder(keys, collections);
+  const ConformalTrackFinder gap =
+      helixFinder(keys + "max_seed_gap_mm = 300.0\n", collections);
   const EventSimulation sim =
       muonGun(17, "p_GeV = 5.0\ntheta_min_deg = 12.0\ntheta_max_deg = 16.0\n");
   const auto disks = det.findSubdetector("InnerTrackerEndcap");
