@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "SyntheticHits.hpp"
@@ -137,6 +139,53 @@ TEST(SzFit, RecoversDipAndOffset) {
     EXPECT_LT(sz.chi2, 1e-9);
     EXPECT_EQ(sz.ndf, 6);
   }
+}
+
+TEST(SzFit, TrackRunningMoreThanHalfATurnBetweenTwoHits) {
+  // A looper (radius 70 mm, tanLambda 0.5) on its way out through layers
+  // at 30, 40 and 50 mm and back in through 50 and 40 mm: 336 mm of arc
+  // between the two 50 mm hits, more than half of the 440 mm turn. The
+  // nearest turn would put the return hits a turn back (z off by 220 mm);
+  // the z slope of the hits before picks the one they lie on.
+  Detector det = barrelDetector();
+  constexpr double kRadius = 70.0;
+  constexpr double kTanL = 0.5;
+  constexpr double kPhi = 0.4;
+  std::vector<Hit> hits;
+  std::uint64_t id = 1;
+  for (bool out : {true, false}) {
+    for (std::uint16_t layer : {0, 1, 2}) {
+      const std::uint16_t l =
+          out ? layer : static_cast<std::uint16_t>(2 - layer);
+      const double turning =
+          2.0 * std::asin(det.layers()[l].r / (2.0 * kRadius));
+      const double s =
+          kRadius * (out ? turning : 2.0 * std::numbers::pi - turning);
+      const double x =
+          kRadius * (std::sin(kPhi) - std::sin(kPhi - s / kRadius));
+      const double y =
+          -kRadius * (std::cos(kPhi) - std::cos(kPhi - s / kRadius));
+      hits.push_back(test::barrelHit(det, l, x, y, kTanL * s, id++));
+    }
+  }
+  ConformalHits ch = makeConformalHits(hits, det);
+  std::vector<ConfIndex> track;
+  for (std::uint64_t want = 1; want <= 6; ++want) {
+    for (ConfIndex c = 0; c < ch.size(); ++c) {
+      if (ch.id[c] == want) {
+        track.push_back(c);
+      }
+    }
+  }
+  ConformalFitResult uv = fitConformal(ch, track, false);
+  ASSERT_TRUE(uv.valid);
+  EXPECT_NEAR(uv.radius, kRadius, 0.01);
+  SzFitResult sz = fitSz(ch, track, makeArcFrame(uv, ch, track.front()));
+  ASSERT_TRUE(sz.valid);
+  EXPECT_NEAR(sz.tanLambda, kTanL, 1e-4);
+  EXPECT_LT(sz.chi2PerNdf(), 1.0);
+  // The last hit lies most of a turn on from the first.
+  EXPECT_GT(sz.lastS, std::numbers::pi * kRadius);
 }
 
 TEST(SzFit, DegenerateIsInvalid) {

@@ -214,6 +214,29 @@ double ArcFrame::hitArcLength(const ConformalHits& hits, ConfIndex h,
   return arcLength(g * hits.x[h], g * hits.y[h], near * g) / g;
 }
 
+double ArcFrame::helixArcLength(const ConformalHits& hits, ConfIndex h,
+                                double near, double sRef, double zRef,
+                                double tanLambda, bool follows) const {
+  const double nearest = hitArcLength(hits, h, near);
+  const double period = 2.0 * std::numbers::pi * radius;
+  const auto zDistance = [&](double s) {
+    return std::abs(hits.z[h] - (zRef + tanLambda * (s - sRef)));
+  };
+  double best = nearest;
+  double bestDistance = zDistance(nearest) - kTurnChoiceMargin;
+  for (double other : {nearest - period, nearest + period}) {
+    if (follows && !(other > near && nearest < near)) {
+      continue;
+    }
+    const double d = zDistance(other);
+    if (d < bestDistance) {
+      best = other;
+      bestDistance = d;
+    }
+  }
+  return best;
+}
+
 Vector2 ArcFrame::pointAt(double s) const {
   double beta = beta0 + orientation * (radius > 0.0 ? s / radius : 0.0);
   return {centreX + radius * std::cos(beta), centreY + radius * std::sin(beta)};
@@ -258,13 +281,20 @@ SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
   // Per-thread scratch, as in fitConformal.
   thread_local std::vector<double> s;
   s.resize(track.size());
-  double prev = 0.0;
+  // Unwrapped against the previous hit: the turn closest to it, unless
+  // the z slope of the hits so far puts the hit a turn away (a track can
+  // run more than half a turn between two hits: helixArcLength).
   for (std::size_t k = 0; k < track.size(); ++k) {
     ConfIndex i = track[k];
-    // Successive hits are less than half a turn apart; unwrap against the
-    // previous one.
-    s[k] = k == 0 ? 0.0 : arc.hitArcLength(hits, i, prev);
-    prev = s[k];
+    if (k == 0) {
+      s[k] = 0.0;
+    } else if (k == 1 || !(std::abs(s[k - 1]) > 0.0)) {
+      s[k] = arc.hitArcLength(hits, i, s[k - 1]);
+    } else {
+      const double slope = (hits.z[track[k - 1]] - hits.z[track[0]]) / s[k - 1];
+      s[k] = arc.helixArcLength(hits, i, s[k - 1], s[k - 1],
+                                hits.z[track[k - 1]], slope, true);
+    }
   }
   Eigen::Vector2d params = Eigen::Vector2d::Zero();
   Eigen::Matrix2d inv = Eigen::Matrix2d::Zero();

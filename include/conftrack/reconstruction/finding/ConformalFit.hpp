@@ -85,9 +85,30 @@ struct ArcFrame {
   /// measure of the path.
   double hitArcLength(const ConformalHits& hits, ConfIndex h,
                       double near) const;
+  /// Arc length of hit h on a track whose z follows the line through
+  /// (sRef, zRef) with slope tanLambda: of the turn closest to `near` and
+  /// the turns either side of it, the one whose z lies nearest the line,
+  /// unless that improves the z distance by less than
+  /// kTurnChoiceMargin (then the turn closest to `near`). A track that
+  /// runs more than half a turn between two hits (a forward low-momentum
+  /// track from the vertex barrel to a disk) would otherwise get a hit
+  /// put a whole turn back, and its s-z line a z error of tanLambda times
+  /// the circumference. With `follows` the hit comes after `near` along
+  /// the track: only the next turn is tried, and only if the nearest one
+  /// lies behind `near`.
+  double helixArcLength(const ConformalHits& hits, ConfIndex h, double near,
+                        double sRef, double zRef, double tanLambda,
+                        bool follows = false) const;
   /// Point on the circle at arc length s.
   Vector2 pointAt(double s) const;
 };
+
+/// The least z improvement for which helixArcLength takes another turn
+/// than the one nearest the expected arc length [mm]: the wrong turn puts
+/// a hit tanLambda times the circumference (hundreds of millimetres for a
+/// forward low-momentum track) off, while a central looper's turns differ
+/// in z by less than this and stay with the nearest one.
+inline constexpr double kTurnChoiceMargin = 10.0;
 
 /// Builds the arc frame of a circle fit with the first hit as origin.
 ArcFrame makeArcFrame(const ConformalFitResult& circle,
