@@ -1,8 +1,11 @@
 /// @file TrackMergingTests.cpp
 /// Track merging (detail/TrackMerging.hpp): two pieces of one helix become
-/// one track; pieces of two different nearby helices stay apart; a looper's
-/// second half-turn is neither merged into its first half-turn nor kept as
-/// a second track, and never joins another particle's track. The pieces are
+/// one track, without a hit of another particle that ended one of them,
+/// also when the particle was produced off the beam line; pieces of two
+/// different nearby helices stay apart; a looper's second half-turn is
+/// neither merged into its first half-turn nor kept as a second track, and
+/// never joins another particle's track, and the mirror image of a prompt
+/// looper (another particle) is not taken for its turn. The pieces are
 /// made directly (fitted hit lists in a FinderState), as the finder would
 /// leave them after a gap.
 ///
@@ -151,6 +154,68 @@ TEST(TrackMerging, DifferentNearbyHelicesStayApart) {
     EXPECT_EQ(f.merge(), 0u) << "case " << which;
     EXPECT_EQ(f.state->tracks.size(), 2u);
   }
+}
+
+TEST(TrackMerging, PieceEndingOnAnotherParticlesHitIsMergedWithoutIt) {
+  // The inner piece's extension ended on a hit of a particle 0.1 rad away
+  // (12 mm off at 120 mm, 15 mm at 150 mm: beyond the 10 mm gate). That
+  // hit is left out and the pieces merge; with no outlier allowed they
+  // stay apart.
+  for (std::uint64_t foreign : {107u, 108u}) {
+    Fixture f;
+    f.hits = test::helixHits(f.det, kRho, kPhi0, 1, kTanL, 1);
+    std::vector<Hit> second =
+        test::helixHits(f.det, kRho, kPhi0 - 0.1, 1, kTanL, 101);
+    f.hits.insert(f.hits.end(), second.begin(), second.end());
+    f.cfg.steps[0].chi2Cut = 1e9;
+    // With 108 (150 mm) the inner piece reaches further out than the outer
+    // one (layers 80-120): its circle, bent by that hit, is tried first.
+    if (foreign == 107) {
+      f.prepare({{1, 2, 3, 4, 107}, {5, 6, 7, 8}});
+    } else {
+      f.prepare({{1, 2, 3, 4, 108}, {5, 6, 7}});
+    }
+    EXPECT_EQ(f.merge(), 1u) << foreign;
+    ASSERT_EQ(f.state->tracks.size(), 1u) << foreign;
+    std::vector<std::uint64_t> expected{1, 2, 3, 4, 5, 6, 7, 8};
+    if (foreign == 108) {
+      expected.pop_back();
+    }
+    EXPECT_EQ(f.ids(0), expected) << foreign;
+
+    Fixture g;
+    g.hits = f.hits;
+    g.cfg.steps[0].chi2Cut = 1e9;
+    if (foreign == 107) {
+      g.prepare({{1, 2, 3, 4, 107}, {5, 6, 7, 8}});
+    } else {
+      g.prepare({{1, 2, 3, 4, 108}, {5, 6, 7}});
+    }
+    detail::TrackMerger::Config cfg;
+    cfg.maxOutliers = 0;
+    EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u) << foreign;
+  }
+}
+
+TEST(TrackMerging, DisplacedPiecesArePairedByTheirFreeCircles) {
+  // A particle that passes 10 mm from the beam line (d0, 1.2 GeV): the
+  // conformal fits, circles through the origin, put the centres of its
+  // inner (30-65 mm) and outer (80-150 mm) pieces 0.26 rad apart in
+  // azimuth, beyond the 0.1 rad sweep; their free circles lie within it.
+  constexpr double kDisplacedRho = 1000.0;
+  Fixture f;
+  f.hits = test::helixHits(f.det, kDisplacedRho, kPhi0, 1, kTanL, 1, 10.0);
+  ASSERT_EQ(f.hits.size(), 8u);
+  f.cfg.steps[0].chi2Cut = 1e9;
+  f.prepare({{1, 2, 3, 4}, {5, 6, 7, 8}});
+  const auto azimuth = [&](std::size_t t) {
+    const auto& uv = f.state->tracks[t].uv;
+    return std::atan2(uv.centreY, uv.centreX);
+  };
+  EXPECT_GT(std::abs(azimuth(0) - azimuth(1)), 0.1);
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8}));
 }
 
 /// Hits of a looper (circle of radius rho through the origin) on every
@@ -465,6 +530,27 @@ TEST(TrackMerging, NextOutgoingTurnBesideTheFirstIsDropped) {
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
+TEST(TrackMerging, MirrorImageOfAPromptLooperIsKept) {
+  // Two particles from the origin on one circle (radius 70 mm), one each
+  // way round it and to either side in z (tanLambda +-0.5: a two-body
+  // decay's back-to-back opposite charges). Found outwards, the second is
+  // a track of opposite sense on the first one's circle whose hits lie on
+  // its helix continued back through the beam line, a whole turn before
+  // the incoming half-turn: it is another particle, not a further turn.
+  constexpr double kLoopRho = 70.0;
+  constexpr double kTanLambda = 0.5;
+  Fixture f;
+  f.hits = looperHits(f.det, kLoopRho, kTanLambda);
+  for (Hit& h : f.hits) {
+    if (h.id > 50) {
+      h.position.z() -= 2.0 * std::numbers::pi * kLoopRho * kTanLambda;
+    }
+  }
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  EXPECT_EQ(f.merge(), 0u);
+  EXPECT_EQ(f.state->tracks.size(), 2u);
 }
 
 TEST(TrackMerging, ChainKeysAreRead) {

@@ -12,57 +12,42 @@
 //     in azimuth (seen from the origin: for a track through the beam line
 //     the centre lies at its initial direction -+ pi/2, measured well even
 //     by a short piece), so that the pair search is a sweep over tracks
-//     sorted by that azimuth;
-//   * every hit of the piece that reaches less far out within
-//     Config::maxDistance (transverse) and Config::maxDz (along z) of the
-//     other piece's circle and s-z line;
+//     sorted by that azimuth. The sweep is made twice, once with each
+//     track's conformal circle and once with its free circle: a piece of
+//     a particle produced tens of millimetres off the beam line fits no
+//     circle through the origin, and its vertex-detector piece's conformal
+//     centre lies 0.1-0.3 rad from its outer piece's;
+//   * every hit of one piece (the one reaching less far out first, then
+//     the other) within Config::maxDistance (transverse) and Config::maxDz
+//     (along z) of the other piece's circle and s-z line, but for at most
+//     Config::maxOutliers hits, which the merged track leaves out: an
+//     extension often ends a piece on one hit of another particle, and
+//     such a hit can also make a vertex-detector piece the one reaching
+//     further out. The arc length of a hit on the other piece's helix is
+//     that of the turn its z fits (ArcFrame::helixArcLength): a forward
+//     low-momentum piece can run more than half a turn;
 //   * no conflicting hits: two hits on one sensor, or two hits on one layer
 //     further apart than an overlap of neighbouring sensors
 //     (Config::maxSameLayerDistance). A looper's further half-turn crosses
 //     the layers of its first one far away from it, so it is never merged
 //     (it is also not a helix through its first half-turn's hits);
 //   * the merged fits' (uv and s-z) chi2/ndf are at most
-//     Config::maxChi2Ratio times the pieces' own (at least 1): two nearby
-//     particles' pieces fit each other far worse than each fits itself
-//     (on CLICdet tt-bar + 30 BX the ratio is about 1 for the pieces of
-//     one particle and about 1000 for two particles). The chi2 cut of the
+//     Config::maxChi2Ratio times the pieces' own (at least 1; the other
+//     piece's without its outliers): two nearby particles' pieces fit
+//     each other far worse than each fits itself (on CLICdet tt-bar + 30
+//     BX the ratio is about 1 for the pieces of one particle and about
+//     1000 for two particles). If the uv fit fails it and an outlier is
+//     left, the other piece's hit with the largest pull is left out and
+//     the fit repeated (a neighbouring particle's vertex-detector hit
+//     within maxDistance but far outside its errors). The chi2 cut of the
 //     pieces' steps is not applied: it holds when a step builds a track,
 //     not after the extension, and the pieces of a low-momentum particle,
 //     extended through its multiple scattering, exceed it themselves
 //     (required, it rejected 98 % of the pairs of one particle that
 //     reached it; without it the duplicate rate went from 5.42 to
 //     5.36 %).
-// Loopers: a particle below about 1 GeV (CLICdet) curls inside the tracker
-// and the finder builds one track per half-turn: the incoming half-turn is
-// found as an outgoing track of opposite charge on the same circle, the
-// next outgoing one as a copy of the first. They cross the same layers as
-// the first half-turn far from its hits, so they are never merged; instead
-// (Config::dropTurns) a track is dropped as a further turn of a better
-// track (betterCandidate: more hits first) whose diameter is below the
-// outermost layer radius (Config::maxLoopDiameter: only such a particle
-// turns back inside the tracker; CLICdet pT < 0.9 GeV) if
-//   * its circle (a free fit to its hits: the conformal one assumes a
-//     circle through the origin, which a further turn no longer is) lies
-//     within Config::maxTurnCentreDistance of the better track's free
-//     circle;
-//   * its hits lie within Config::maxDz of the z of that track's helix
-//     some whole number of turns k on (|k| <= kMaxTurns; k = 0 for the
-//     sense-reversed incoming half-turn, never for a track beside the
-//     better one's hits on their layers), the distance divided by
-//     1 + path / scale (scale: Config::turnDzPathScale times p / 1 GeV
-//     below 1 GeV);
-//   * their distance from that track's circle varies along them by at
-//     most Config::maxTurnDistance and its mean, divided as the z one, is
-//     at most that (energy loss shrinks a looper's circle turn by turn);
-//   * and its turn score (the squared differences in tanLambda, centre, z
-//     and distance, each over its scale) is at most
-//     Config::maxTurnScore.
-// Its hits are left alone rather than becoming a
-// second track of the particle. The score keeps the tracks of other
-// particles on nearby circles (they differ in tanLambda), which the
-// position gates alone dropped for central loopers. Helix-step tracks take part
-// in this rule (their circle is the free real-space one, their z line a
-// straight s-z fit) but not in the merging, whose refit is the conformal one.
+// Loopers' further half-turns are dropped after the merging rounds
+// (Config::dropTurns; TrackMergingTurns.cpp).
 //
 // Compatible pairs are merged best merged fit first (total order: quality,
 // then track indices), each track at most once per round; rounds repeat
@@ -84,9 +69,8 @@ namespace conftrack::detail {
 
 namespace {
 
-/// Turns searched on either side of a track for its looper's further
-/// half-turns.
-constexpr int kMaxTurns = 3;
+/// Fewest hits of a piece that a merge keeps after its outliers.
+constexpr std::size_t kMinKeptHits = 3;
 
 bool positiveFinite(double x) { return x > 0.0 && std::isfinite(x); }
 
@@ -147,12 +131,12 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
   }
 }
 
-bool TrackMerger::conflict(const TrackCandidate& a,
-                           const TrackCandidate& b) const {
+bool TrackMerger::conflict(std::span<const ConfIndex> a,
+                           std::span<const ConfIndex> b) const {
   const double maxD2 =
       m_config.maxSameLayerDistance * m_config.maxSameLayerDistance;
-  for (ConfIndex ha : a.hits) {
-    for (ConfIndex hb : b.hits) {
+  for (ConfIndex ha : a) {
+    for (ConfIndex hb : b) {
       if (ha == hb || m_hits.layer[ha] != m_hits.layer[hb]) {
         continue;
       }
@@ -169,204 +153,6 @@ bool TrackMerger::conflict(const TrackCandidate& a,
   return false;
 }
 
-bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
-                                const TransverseCircle& firstCircle,
-                                const TrackCandidate& turn,
-                                const TransverseCircle& turnCircle) const {
-  // (dropTurns passes only firsts whose circle can loop: maxLoopDiameter.)
-  // Both half-turns are compared by their free circles: the first one's
-  // conformal fit is a circle through the origin, which the half-turn of
-  // a particle produced off the beam line (a conversion, a decay) is not,
-  // and then its further turn lies off it by tens of millimetres. The z
-  // test below keeps the first one's conformal arc frame, in which its s-z
-  // line was fitted.
-  const double radius = firstCircle.rho;
-  const double centreDistance =
-      norm2(firstCircle.cx - turnCircle.cx, firstCircle.cy - turnCircle.cy);
-  if (centreDistance > m_config.maxTurnCentreDistance ||
-      std::abs(radius - turnCircle.rho) > m_config.maxTurnCentreDistance) {
-    return false;
-  }
-  // A turn crossed in the opposite sense (the incoming half-turn, found
-  // as an outgoing track of opposite charge) runs backwards in z.
-  const double sense = first.uv.orientation == turn.uv.orientation ? 1.0 : -1.0;
-  const double dTanLambda = turn.sz.tanLambda - sense * first.sz.tanLambda;
-  // Energy loss shrinks the circle from turn to turn: a further turn's
-  // few hits lie at a nearly constant distance from the first half-turn's
-  // circle, which grows with the path. The spread of that distance is
-  // tested as it is (first: it needs no arc lengths), its mean below with
-  // the path's allowance (a track of another particle crosses the circle:
-  // its distance varies along it).
-  double sumOff = 0.0;
-  double minOff = std::numeric_limits<double>::infinity();
-  double maxOff = -minOff;
-  for (ConfIndex h : turn.hits) {
-    const double d =
-        norm2(m_hits.x[h] - firstCircle.cx, m_hits.y[h] - firstCircle.cy) -
-        radius;
-    sumOff += d;
-    minOff = std::min(minOff, d);
-    maxOff = std::max(maxOff, d);
-  }
-  const double meanOff = sumOff / static_cast<double>(turn.hits.size());
-  const double spread = std::max(maxOff - meanOff, meanOff - minOff);
-  if (!(spread <= m_config.maxTurnDistance)) {
-    return false;
-  }
-  const ArcFrame arc = makeArcFrame(first.uv, m_hits, first.hits.front());
-  const double period = 2.0 * std::numbers::pi * arc.radius;
-  std::vector<double> s;
-  s.reserve(turn.hits.size());
-  for (ConfIndex h : turn.hits) {
-    // Continued from the previous hit: a turn that crosses the far side
-    // of the circle (the first hit's azimuth + pi) would otherwise jump
-    // by a period between its hits and match no single turn number.
-    s.push_back(arc.hitArcLength(m_hits, h, s.empty() ? 0.0 : s.back()));
-  }
-  // Distances from the first half-turn's helix are divided by
-  // 1 + path / pathScale, path being the arc length from its last hit:
-  // scattering and energy loss move a further turn off that helix in
-  // proportion to 1 / p, so the scale (Config::turnDzPathScale) shrinks in
-  // proportion to p below 1 GeV. (CLICdet tt-bar + 30 BX, 100 events: the
-  // duplicate rate 3.29 -> 3.04 % for the z test alone, no particle lost.)
-  const double momentum =
-      circlePt(firstCircle, m_state.bzForPt) * norm2(1.0, first.sz.tanLambda);
-  const double pathScale =
-      m_config.turnDzPathScale * std::min(1.0, momentum / units::GeV);
-  // Crossed in the same sense with k = 0, the track would be a piece of
-  // the first half-turn itself, and such a piece lies before or after the
-  // first one's hits along the arc, never beside them on the same layers.
-  // A track with at least half its hits beside them is another particle
-  // running alongside (the same circle and z within the gates over a few
-  // layers: a 1.7 GeV piece beside a 0.3 GeV looper in the vertex detector)
-  // or the next outgoing turn: k = 0 is not tried for it. (At least half:
-  // one hit of another particle in either track puts a hit beside.)
-  std::size_t nBeside = 0;
-  if (sense > 0.0) {
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      if (!(s[i] > 0.0 && s[i] < first.sz.lastS)) {
-        continue;
-      }
-      for (ConfIndex f : first.hits) {
-        if (f != turn.hits[i] &&
-            m_hits.layer[f] == m_hits.layer[turn.hits[i]]) {
-          ++nBeside;
-          break;
-        }
-      }
-    }
-  }
-  const bool besideFirst = 2 * nBeside >= s.size();
-  // The z test takes the best whole number of turns k; the transverse
-  // one below the shortest path among those that pass it (a central
-  // looper's z fits every k alike).
-  double bestDz = std::numeric_limits<double>::infinity();
-  double meanPath = std::numeric_limits<double>::infinity();
-  for (int k = -kMaxTurns; k <= kMaxTurns; ++k) {
-    if (k == 0 && besideFirst) {
-      continue;
-    }
-    double worst = 0.0;
-    double pathSum = 0.0;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      const double z = first.sz.z0 + first.sz.tanLambda * (s[i] + k * period);
-      const double path = std::abs(s[i] + k * period - first.sz.lastS);
-      worst = std::max(worst, std::abs(m_hits.z[turn.hits[i]] - z) /
-                                  (1.0 + path / pathScale));
-      pathSum += path;
-    }
-    bestDz = std::min(bestDz, worst);
-    if (worst <= m_config.maxDz) {
-      meanPath = std::min(meanPath, pathSum / static_cast<double>(s.size()));
-    }
-  }
-  if (!(bestDz <= m_config.maxDz)) {
-    return false;
-  }
-  const double meanDistance = std::abs(meanOff) / (1.0 + meanPath / pathScale);
-  if (!(meanDistance <= m_config.maxTurnDistance)) {
-    return false;
-  }
-  const double distance = std::max(spread, meanDistance);
-  const auto square = [](double x) { return x * x; };
-  const double score = square(dTanLambda / m_config.turnScaleTanLambda) +
-                       square(centreDistance / m_config.turnScaleCentre) +
-                       square(bestDz / m_config.turnScaleDz) +
-                       square(distance / m_config.turnScaleDistance);
-  return score <= m_config.maxTurnScore;
-}
-
-std::uint32_t TrackMerger::dropTurns() {
-  std::vector<TrackCandidate>& tracks = m_state.tracks;
-  std::vector<std::uint32_t> order;
-  for (std::uint32_t t = 0; t < tracks.size(); ++t) {
-    const TrackCandidate& c = tracks[t];
-    if (c.alive && c.hits.size() >= 3 && c.uv.valid && c.sz.valid &&
-        c.uv.radius > 0.0) {
-      order.push_back(t);
-    }
-  }
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return betterCandidate(tracks[a], tracks[b]);
-  });
-  // Rank in that order, and the tracks sorted by circle-centre x: a turn's
-  // centre lies within maxTurnCentreDistance of the first half-turn's.
-  std::vector<std::uint32_t> rank(tracks.size(), 0);
-  for (std::uint32_t i = 0; i < order.size(); ++i) {
-    rank[order[i]] = i;
-  }
-  // Each track's circle, as a first half-turn and as a further turn: a
-  // free least-squares circle through its hits. The conformal fit assumes
-  // a circle through the origin, which a turn that energy loss and
-  // scattering have moved is not, nor the half-turn of a particle produced
-  // off the beam line: its conformal centre lies tens of millimetres off
-  // (helix-step tracks have a free circle already; three-hit ones keep
-  // theirs).
-  std::vector<TransverseCircle> circles(tracks.size());
-  for (std::uint32_t t : order) {
-    const TrackCandidate& c = tracks[t];
-    if (c.helix || c.hits.size() < 4 ||
-        !fitCircle(m_hits, c.hits, circles[t])) {
-      circles[t].cx = c.uv.centreX;
-      circles[t].cy = c.uv.centreY;
-      circles[t].rho = c.uv.radius;
-    }
-  }
-  std::vector<std::pair<double, std::uint32_t>> byX;
-  byX.reserve(order.size());
-  for (std::uint32_t t : order) {
-    byX.emplace_back(circles[t].cx, t);
-  }
-  std::sort(byX.begin(), byX.end());
-  std::vector<std::uint32_t> turns;
-  std::uint32_t dropped = 0;
-  for (std::uint32_t t : order) {
-    const TrackCandidate& first = tracks[t];
-    if (!first.alive || !(2.0 * circles[t].rho <= m_config.maxLoopDiameter)) {
-      continue;
-    }
-    turns.clear();
-    const double centreX = circles[t].cx;
-    auto it = std::lower_bound(
-        byX.begin(), byX.end(),
-        std::make_pair(centreX - m_config.maxTurnCentreDistance, 0u));
-    for (; it != byX.end() &&
-           it->first <= centreX + m_config.maxTurnCentreDistance;
-         ++it) {
-      const std::uint32_t u = it->second;
-      if (rank[u] > rank[t] && tracks[u].alive &&
-          isFurtherTurn(first, circles[t], tracks[u], circles[u])) {
-        turns.push_back(u);
-      }
-    }
-    for (std::uint32_t u : turns) {
-      tracks[u].alive = false;
-      ++dropped;
-    }
-  }
-  return dropped;
-}
-
 bool TrackMerger::tryMerge(std::uint32_t ia, std::uint32_t ib,
                            TrackCandidate& out) const {
   const TrackCandidate& a = m_state.tracks[ia];
@@ -374,38 +160,84 @@ bool TrackMerger::tryMerge(std::uint32_t ia, std::uint32_t ib,
   if (a.uv.orientation != b.uv.orientation) {
     return false;
   }
-  // The piece reaching further out has the better-measured circle.
+  // The piece reaching further out has the better-measured circle, unless
+  // it reaches out only by one hit of another particle (a vertex-detector
+  // piece that an extension ended on a far disk): then the other piece's
+  // circle is the one to test against.
   const bool aRef = m_reach[ia] >= m_reach[ib];
-  const TrackCandidate& ref = aRef ? a : b;
-  const TrackCandidate& other = aRef ? b : a;
+  const TrackCandidate& further = aRef ? a : b;
+  const TrackCandidate& nearer = aRef ? b : a;
+  return mergeOnto(further, nearer, out) || mergeOnto(nearer, further, out);
+}
+
+bool TrackMerger::mergeOnto(const TrackCandidate& ref,
+                            const TrackCandidate& other,
+                            TrackCandidate& out) const {
   const ArcFrame arc = makeArcFrame(ref.uv, m_hits, ref.hits.front());
+  // Arc lengths on the reference helix: a piece can run more than half a
+  // turn from the reference's first hit (a forward low-momentum track from
+  // the vertex barrel to a disk), and then its turn is the one its z fits.
+  const auto arcLength = [&](ConfIndex h) {
+    return arc.helixArcLength(m_hits, h, 0.0, 0.0, ref.sz.z0, ref.sz.tanLambda);
+  };
+  // Every hit of the other piece within maxDistance of the reference
+  // circle and maxDz of its s-z line, but for at most maxOutliers of them,
+  // which stay out of the merged track: an extension often ends a piece
+  // with one hit of another particle (a far disk's hit that its circle
+  // passed), and that hit alone kept the pieces apart.
   // The transverse test first: it rejects most pairs and needs no atan2.
+  thread_local std::vector<ConfIndex> outlierHits;
+  outlierHits.clear();
+  const auto outlier = [&](ConfIndex h) {
+    return std::find(outlierHits.begin(), outlierHits.end(), h) !=
+           outlierHits.end();
+  };
   for (ConfIndex h : other.hits) {
     const double d =
         norm2(m_hits.x[h] - arc.centreX, m_hits.y[h] - arc.centreY) -
         arc.radius;
     if (!(std::abs(d) <= m_config.maxDistance)) {
-      return false;
+      if (outlierHits.size() == m_config.maxOutliers) {
+        return false;
+      }
+      outlierHits.push_back(h);
     }
   }
   for (ConfIndex h : other.hits) {
-    const double s = arc.hitArcLength(m_hits, h, 0.0);
+    if (outlier(h)) {
+      continue;
+    }
+    const double s = arcLength(h);
     const double dz = m_hits.z[h] - (ref.sz.z0 + ref.sz.tanLambda * s);
     if (!(std::abs(dz) <= m_config.maxDz)) {
-      return false;
+      if (outlierHits.size() == m_config.maxOutliers) {
+        return false;
+      }
+      outlierHits.push_back(h);
     }
   }
-  if (conflict(a, b)) {
+  if (other.hits.size() < kMinKeptHits + outlierHits.size()) {
+    return false;
+  }
+  thread_local std::vector<ConfIndex> kept;
+  kept.clear();
+  for (ConfIndex h : other.hits) {
+    if (!outlier(h)) {
+      kept.push_back(h);
+    }
+  }
+  if (conflict(ref.hits, kept)) {
     return false;
   }
 
-  // The union along the reference circle (within half a turn of its first
-  // hit: a looper's further turn was rejected above).
+  // The union along the reference helix (a looper's further turn, on the
+  // layers of the first one, was rejected above).
   std::vector<std::pair<double, ConfIndex>> ordered;
-  ordered.reserve(a.hits.size() + b.hits.size());
-  for (const TrackCandidate* t : {&a, &b}) {
-    for (ConfIndex h : t->hits) {
-      ordered.emplace_back(arc.hitArcLength(m_hits, h, 0.0), h);
+  ordered.reserve(ref.hits.size() + kept.size());
+  for (const std::vector<ConfIndex>* piece :
+       {&ref.hits, static_cast<const std::vector<ConfIndex>*>(&kept)}) {
+    for (ConfIndex h : *piece) {
+      ordered.emplace_back(arcLength(h), h);
     }
   }
   std::sort(ordered.begin(), ordered.end());
@@ -420,31 +252,73 @@ bool TrackMerger::tryMerge(std::uint32_t ia, std::uint32_t ib,
     hits.push_back(h);
   }
 
-  const bool quadratic = a.uv.quadratic || b.uv.quadratic;
+  const bool quadratic = ref.uv.quadratic || other.uv.quadratic;
+  // The merged fit is held to the pieces' own fits, the other piece's
+  // without its outliers (which would otherwise loosen the bound that they
+  // were left out for).
+  const auto uvBound = [&]() {
+    double otherChi2 = other.uv.chi2PerNdf();
+    if (!outlierHits.empty()) {
+      const ConformalFitResult fit =
+          fitConformal(m_hits, kept, other.uv.quadratic);
+      otherChi2 = fit.valid ? fit.chi2PerNdf() : 0.0;
+    }
+    return m_config.maxChi2Ratio *
+           std::max({1.0, ref.uv.chi2PerNdf(), otherChi2});
+  };
+  const auto passes = [](double chi2PerNdf, double bound) {
+    return chi2PerNdf <= bound || chi2PerNdf <= 1.0;
+  };
+  double bound = uvBound();
   ConformalFitResult uv = fitConformal(m_hits, hits, quadratic);
-  if (!uv.valid) {
+  if (uv.valid && !passes(uv.chi2PerNdf(), bound) &&
+      outlierHits.size() < m_config.maxOutliers && kept.size() > kMinKeptHits) {
+    // One hit of the other piece off the merged circle by less than
+    // maxDistance but far beyond its errors (a neighbouring particle's
+    // hit in the vertex detector): its worst-fitting hit is the outlier.
+    std::size_t worst = hits.size();
+    double worstPull = 0.0;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      if (std::find(kept.begin(), kept.end(), hits[i]) == kept.end() ||
+          std::find(ref.hits.begin(), ref.hits.end(), hits[i]) !=
+              ref.hits.end()) {
+        continue;
+      }
+      double variance = 0.0;
+      const double r = uv.residual(m_hits, hits[i], variance);
+      if (r * r / variance > worstPull) {
+        worstPull = r * r / variance;
+        worst = i;
+      }
+    }
+    if (worst < hits.size()) {
+      const ConfIndex dropped = hits[worst];
+      hits.erase(hits.begin() + static_cast<std::ptrdiff_t>(worst));
+      kept.erase(std::find(kept.begin(), kept.end(), dropped));
+      outlierHits.push_back(dropped);
+      bound = uvBound();
+      uv = fitConformal(m_hits, hits, quadratic);
+    }
+  }
+  if (!uv.valid || !passes(uv.chi2PerNdf(), bound)) {
     return false;
   }
   const double pt = uv.pt(m_state.bzForPt);
-  const double uvBound = m_config.maxChi2Ratio *
-                         std::max({1.0, a.uv.chi2PerNdf(), b.uv.chi2PerNdf()});
-  if (!(uv.chi2PerNdf() <= uvBound) && !(uv.chi2PerNdf() <= 1.0)) {
-    return false;
-  }
   SzFitResult sz = fitSz(m_hits, hits, makeArcFrame(uv, m_hits, hits.front()));
-  const double szBound = m_config.maxChi2Ratio *
-                         std::max({1.0, a.sz.chi2PerNdf(), b.sz.chi2PerNdf()});
-  if (!sz.valid ||
-      (!(sz.chi2PerNdf() <= szBound) && !(sz.chi2PerNdf() <= 1.0))) {
+  const double szBound =
+      m_config.maxChi2Ratio *
+      std::max({1.0, ref.sz.chi2PerNdf(), other.sz.chi2PerNdf()});
+  if (!sz.valid || !passes(sz.chi2PerNdf(), szBound)) {
     return false;
   }
-  const TrackCandidate& longer = a.hits.size() >= b.hits.size() ? a : b;
+  const TrackCandidate& longer =
+      ref.hits.size() >= other.hits.size() ? ref : other;
   out = TrackCandidate{};
   out.hits = std::move(hits);
   out.uv = uv;
   out.sz = sz;
   out.pt = pt;
-  out.step = std::min(a.step, b.step);
+  out.step = std::min(ref.step, other.step);
   out.fitBackward = longer.fitBackward;
   out.helix = false;
   out.alive = true;
@@ -455,6 +329,7 @@ std::uint32_t TrackMerger::run() {
   std::vector<TrackCandidate>& tracks = m_state.tracks;
   std::uint32_t merges = 0;
   std::vector<std::pair<double, std::uint32_t>> byPhi;
+  std::vector<double> conformalPhi;
   std::vector<Merge> found;
   std::vector<std::uint8_t> taken;
   for (std::uint32_t round = 0; round < m_config.maxRounds; ++round) {
@@ -462,40 +337,74 @@ std::uint32_t TrackMerger::run() {
     for (std::uint32_t t = 0; t < tracks.size(); ++t) {
       m_reach[t] = reach(m_hits, tracks[t]);
     }
-    byPhi.clear();
+    // Candidate pairs: circle centres within maxDeltaPhi in azimuth, by
+    // each track's conformal circle and by its free circle. The conformal
+    // one is a circle through the origin; a piece of a particle produced
+    // off the beam line (tens of millimetres out) fits it poorly, and its
+    // short vertex-detector piece's centre then lies 0.1-0.3 rad from the
+    // outer piece's. The free circle of a short piece measures its radius
+    // poorly but the azimuth of its centre well.
+    const auto eligible = [&](const TrackCandidate& c) {
+      return c.alive && !c.helix && c.hits.size() >= 3 && c.uv.valid &&
+             c.sz.valid && c.uv.radius > 0.0;
+    };
+    conformalPhi.assign(tracks.size(), 0.0);
     for (std::uint32_t t = 0; t < tracks.size(); ++t) {
-      const TrackCandidate& c = tracks[t];
-      if (c.alive && !c.helix && c.hits.size() >= 3 && c.uv.valid &&
-          c.sz.valid && c.uv.radius > 0.0) {
-        byPhi.emplace_back(std::atan2(c.uv.centreY, c.uv.centreX), t);
+      if (eligible(tracks[t])) {
+        conformalPhi[t] =
+            std::atan2(tracks[t].uv.centreY, tracks[t].uv.centreX);
       }
     }
-    std::sort(byPhi.begin(), byPhi.end());
+    const auto withinDeltaPhi = [&](double x, double y) {
+      double d = std::abs(x - y);
+      d = std::min(d, 2.0 * std::numbers::pi - d);
+      return d <= m_config.maxDeltaPhi;
+    };
     found.clear();
-    const std::size_t n = byPhi.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      // Forward sweep with wrap-around: each pair once.
-      for (std::size_t k = 1; k < n; ++k) {
-        const std::size_t j = (i + k) % n;
-        double dphi = byPhi[j].first - byPhi[i].first;
-        if (j < i) {
-          dphi += 2.0 * std::numbers::pi;
-        }
-        if (!(dphi <= m_config.maxDeltaPhi)) {
-          break;
-        }
-        const std::uint32_t a = std::min(byPhi[i].second, byPhi[j].second);
-        const std::uint32_t b = std::max(byPhi[i].second, byPhi[j].second);
-        // After the first round only pairs with a track that changed can
-        // have become compatible (the others were tested already).
-        if (tracks[a].uv.orientation != tracks[b].uv.orientation ||
-            (round > 0 && taken[a] == 0 && taken[b] == 0)) {
+    for (int key = 0; key < 2; ++key) {
+      byPhi.clear();
+      for (std::uint32_t t = 0; t < tracks.size(); ++t) {
+        const TrackCandidate& c = tracks[t];
+        if (!eligible(c)) {
           continue;
         }
-        TrackCandidate merged;
-        if (tryMerge(a, b, merged)) {
-          const double score = merged.quality();
-          found.push_back({score, a, b, std::move(merged)});
+        TransverseCircle freeCircle;
+        if (key == 0) {
+          byPhi.emplace_back(conformalPhi[t], t);
+        } else if (c.hits.size() >= 4 &&
+                   fitCircle(m_hits, c.hits, freeCircle)) {
+          byPhi.emplace_back(std::atan2(freeCircle.cy, freeCircle.cx), t);
+        }
+      }
+      std::sort(byPhi.begin(), byPhi.end());
+      const std::size_t n = byPhi.size();
+      for (std::size_t i = 0; i < n; ++i) {
+        // Forward sweep with wrap-around: each pair once.
+        for (std::size_t k = 1; k < n; ++k) {
+          const std::size_t j = (i + k) % n;
+          double dphi = byPhi[j].first - byPhi[i].first;
+          if (j < i) {
+            dphi += 2.0 * std::numbers::pi;
+          }
+          if (!(dphi <= m_config.maxDeltaPhi)) {
+            break;
+          }
+          const std::uint32_t a = std::min(byPhi[i].second, byPhi[j].second);
+          const std::uint32_t b = std::max(byPhi[i].second, byPhi[j].second);
+          // After the first round only pairs with a track that changed
+          // can have become compatible (the others were tested already);
+          // the free-circle sweep skips the pairs that the conformal one
+          // tried.
+          if (tracks[a].uv.orientation != tracks[b].uv.orientation ||
+              (round > 0 && taken[a] == 0 && taken[b] == 0) ||
+              (key == 1 && withinDeltaPhi(conformalPhi[a], conformalPhi[b]))) {
+            continue;
+          }
+          TrackCandidate merged;
+          if (tryMerge(a, b, merged)) {
+            const double score = merged.quality();
+            found.push_back({score, a, b, std::move(merged)});
+          }
         }
       }
     }

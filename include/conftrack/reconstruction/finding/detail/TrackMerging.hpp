@@ -10,6 +10,7 @@
 #include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace conftrack::detail {
@@ -40,6 +41,11 @@ class TrackMerger {
     /// with the pieces' value counted as at least 1 (the steps' own chi2
     /// cuts are not applied: see TrackMerging.cpp).
     double maxChi2Ratio = 10.0;
+    /// Hits of the piece tested against the other's circle and s-z line
+    /// that may fail those tests (maxDistance, maxDz); they are left out
+    /// of the merged track, which keeps at least three of the piece's
+    /// hits.
+    std::uint32_t maxOutliers = 1;
     /// Rounds of merging (a particle in three pieces needs two).
     std::uint32_t maxRounds = 3;
     /// Drop a track that is a further half-turn of a better track's helix
@@ -129,6 +135,10 @@ class TrackMerger {
   /// Tries to merge tracks a and b; fills `out` and returns true if they
   /// are compatible.
   bool tryMerge(std::uint32_t a, std::uint32_t b, TrackCandidate& out) const;
+  /// Tries to merge `other` onto `ref`: other's hits tested against ref's
+  /// circle and s-z line, then the union refitted.
+  bool mergeOnto(const TrackCandidate& ref, const TrackCandidate& other,
+                 TrackCandidate& out) const;
   /// True if `turn`, whose free circle is `turnCircle`, lies on a further
   /// half-turn of the helix of `first`, whose free circle is `firstCircle`
   /// (its turn score is at most Config::maxTurnScore).
@@ -140,7 +150,8 @@ class TrackMerger {
   std::uint32_t dropTurns();
   /// True if hits of the two pieces share a sensor, or lie on one layer
   /// further apart than an overlap.
-  bool conflict(const TrackCandidate& a, const TrackCandidate& b) const;
+  bool conflict(std::span<const ConfIndex> a,
+                std::span<const ConfIndex> b) const;
 
   FinderState& m_state;
   const ConformalHits& m_hits;
