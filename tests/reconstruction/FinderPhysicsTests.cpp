@@ -213,6 +213,37 @@ TEST_F(FinderPhysics, TtbarWith30BunchCrossings) {
   EXPECT_GE(ratio(s.found, s.particles), 0.98);  // measured 99.2 %
 }
 
+TEST_F(FinderPhysics, FewDuplicatesWith30BunchCrossings) {
+  // CLICdp duplicate rate (every matched track of a particle with two or
+  // more, over all tracks) of the finder's tracks, before the fit and
+  // selection, tt-bar + 30 BX, 20 events: 1.77 % (205 of 11,601; 2.79 %
+  // before the s-z fit's turn choice, the track merging's outlier hits,
+  // both pieces as reference, free-circle pairing and the mirror test).
+  // The bound leaves 2.7 standard deviations (0.12 %) above the measured
+  // value.
+  EventSimulation::Config cfg;
+  cfg.sample = "ttbar3tev";
+  cfg.overlayBx = 30;
+  cfg.seed = 1;
+  EventSimulation sim(*s_detector, cfg);
+  std::size_t tracks = 0;
+  std::size_t duplicates = 0;
+  for (std::size_t e = 0; e < 20; ++e) {
+    Event ev = sim.simulate(e + 1);
+    FindingResult r = s_finder->run(ev.hits);
+    EventMatching m = matchTracks(ev, hitLists(r));
+    tracks += m.tracks.size();
+    for (const TrackMatch& t : m.tracks) {
+      if (t.matched && m.particles[t.particle].nMatchedTracks >= 2) {
+        ++duplicates;
+      }
+    }
+  }
+  std::printf("[ ttbar + 30 BX duplicates ] %.4f (%zu/%zu)\n",
+              ratio(duplicates, tracks), duplicates, tracks);
+  EXPECT_LE(ratio(duplicates, tracks), 0.021);
+}
+
 TEST_F(FinderPhysics, IndependentOfHitOrder) {
   EventSimulation::Config cfg;
   cfg.sample = "ttbar3tev";
