@@ -222,11 +222,12 @@ TEST_F(FinderPhysics, TtbarWith30BunchCrossings) {
 TEST_F(FinderPhysics, FewDuplicatesWith30BunchCrossings) {
   // CLICdp duplicate rate (every matched track of a particle with two or
   // more, over all tracks) of the finder's tracks, before the fit and
-  // selection, tt-bar + 30 BX, 20 events: 1.77 % (205 of 11,601; 2.79 %
-  // before the s-z fit's turn choice, the track merging's outlier hits,
-  // both pieces as reference, free-circle pairing and the mirror test).
-  // The bound leaves 2.7 standard deviations (0.12 %) above the measured
-  // value.
+  // selection, tt-bar + 30 BX, 20 events: 0.96 % (111 of 11,549; 1.77 %
+  // before the looper rule's turn circles left a foreign end hit out,
+  // 2.79 % before the s-z fit's turn choice, the track merging's outlier
+  // hits, both pieces as reference, free-circle pairing and the mirror
+  // test). The bound leaves 2.7 standard deviations (0.09 %) above the
+  // measured value.
   EventSimulation::Config cfg;
   cfg.sample = "ttbar3tev";
   cfg.overlayBx = 30;
@@ -234,7 +235,7 @@ TEST_F(FinderPhysics, FewDuplicatesWith30BunchCrossings) {
   Score s = score(*s_detector, *s_finder, cfg, 20, 1.0);
   std::printf("[ ttbar + 30 BX duplicates ] %.4f (%zu/%zu)\n",
               ratio(s.duplicates, s.tracks), s.duplicates, s.tracks);
-  EXPECT_LE(ratio(s.duplicates, s.tracks), 0.021);
+  EXPECT_LE(ratio(s.duplicates, s.tracks), 0.012);
 }
 
 TEST_F(FinderPhysics, IndependentOfHitOrder) {

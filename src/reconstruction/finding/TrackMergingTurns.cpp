@@ -13,7 +13,10 @@
 //   * its circle (a free fit to its hits: the conformal one assumes a
 //     circle through the origin, which a further turn no longer is) lies
 //     within Config::maxTurnCentreDistance of the better track's free
-//     circle;
+//     circle. Either circle leaves out an end hit lying further than
+//     Config::maxTurnDistance from the circle of the track's other hits
+//     (TurnCircle: another particle's hit that an extension took), the
+//     tests below skip it, and a better track that drops a turn loses it;
 //   * its hits lie within Config::maxDz of the z of that track's helix
 //     some whole number of turns k on (|k| <= kMaxTurns; k = 0 for the
 //     sense-reversed incoming half-turn, never for a track beside the
@@ -66,12 +69,71 @@ constexpr double kPromptDistance = 5.0;
 /// refused 8 true turns of central loopers, with 0.1 none of them).
 constexpr double kMirrorMinTanLambda = 0.1;
 
+/// Fewest hits of a track whose circle may leave one out (TurnCircle):
+/// four remain for a free fit.
+constexpr std::size_t kMinHitsForOutlier = 5;
+
 }  // namespace
 
+TrackMerger::TurnCircle TrackMerger::turnCircle(const TrackCandidate& c) const {
+  TurnCircle out;
+  if (c.helix || c.hits.size() < 4 || !fitCircle(m_hits, c.hits, out.circle)) {
+    out.circle.cx = c.uv.centreX;
+    out.circle.cy = c.uv.centreY;
+    out.circle.rho = c.uv.radius;
+    return out;
+  }
+  if (c.hits.size() < kMinHitsForOutlier) {
+    return out;
+  }
+  // One hit of another particle, taken by an extension past where the
+  // track's own hits end (a vertex-barrel pass of a central looper
+  // extended to a hit in the outer tracker), bends a free circle of a few
+  // hits by hundreds of millimetres: then the track's further turns are
+  // not recognised. Such a hit is at an end of the track, where its lever
+  // arm pulls the circle through it (its residual is no larger than the
+  // others'). Each end hit is tried: it is an outlier if it lies further
+  // than maxTurnDistance (what a turn's hits may stray) from the circle of
+  // the others; the one further off is left out.
+  const auto distance = [&](const TransverseCircle& circle, ConfIndex h) {
+    return std::abs(norm2(m_hits.x[h] - circle.cx, m_hits.y[h] - circle.cy) -
+                    circle.rho);
+  };
+  thread_local std::vector<ConfIndex> others;
+  double worstDistance = m_config.maxTurnDistance;
+  for (const bool front : {true, false}) {
+    if (front) {
+      others.assign(c.hits.begin() + 1, c.hits.end());
+    } else {
+      others.assign(c.hits.begin(), c.hits.end() - 1);
+    }
+    const ConfIndex end = front ? c.hits.front() : c.hits.back();
+    TransverseCircle withoutEnd;
+    if (fitCircle(m_hits, others, withoutEnd) &&
+        distance(withoutEnd, end) > worstDistance) {
+      worstDistance = distance(withoutEnd, end);
+      out.circle = withoutEnd;
+      out.hasOutlier = true;
+      out.outlier = end;
+    }
+  }
+  return out;
+}
+
 bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
-                                const TransverseCircle& firstCircle,
+                                const TurnCircle& firstTurnCircle,
                                 const TrackCandidate& turn,
-                                const TransverseCircle& turnCircle) const {
+                                const TurnCircle& turnTurnCircle) const {
+  const TransverseCircle& firstCircle = firstTurnCircle.circle;
+  const TransverseCircle& turnCircle = turnTurnCircle.circle;
+  // The turn's hits but its outlier.
+  thread_local std::vector<ConfIndex> turnHits;
+  turnHits.clear();
+  for (ConfIndex h : turn.hits) {
+    if (!turnTurnCircle.hasOutlier || h != turnTurnCircle.outlier) {
+      turnHits.push_back(h);
+    }
+  }
   // (dropTurns passes only firsts whose circle can loop: maxLoopDiameter.)
   // Both half-turns are compared by their free circles: the first one's
   // conformal fit is a circle through the origin, which the half-turn of
@@ -99,7 +161,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   double sumOff = 0.0;
   double minOff = std::numeric_limits<double>::infinity();
   double maxOff = -minOff;
-  for (ConfIndex h : turn.hits) {
+  for (ConfIndex h : turnHits) {
     const double d =
         norm2(m_hits.x[h] - firstCircle.cx, m_hits.y[h] - firstCircle.cy) -
         radius;
@@ -107,7 +169,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
     minOff = std::min(minOff, d);
     maxOff = std::max(maxOff, d);
   }
-  const double meanOff = sumOff / static_cast<double>(turn.hits.size());
+  const double meanOff = sumOff / static_cast<double>(turnHits.size());
   const double spread = std::max(maxOff - meanOff, meanOff - minOff);
   if (!(spread <= m_config.maxTurnDistance)) {
     return false;
@@ -115,8 +177,8 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   const ArcFrame arc = makeArcFrame(first.uv, m_hits, first.hits.front());
   const double period = 2.0 * std::numbers::pi * arc.radius;
   std::vector<double> s;
-  s.reserve(turn.hits.size());
-  for (ConfIndex h : turn.hits) {
+  s.reserve(turnHits.size());
+  for (ConfIndex h : turnHits) {
     // Continued from the previous hit: a turn that crosses the far side
     // of the circle (the first hit's azimuth + pi) would otherwise jump
     // by a period between its hits and match no single turn number.
@@ -147,8 +209,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
         continue;
       }
       for (ConfIndex f : first.hits) {
-        if (f != turn.hits[i] &&
-            m_hits.layer[f] == m_hits.layer[turn.hits[i]]) {
+        if (f != turnHits[i] && m_hits.layer[f] == m_hits.layer[turnHits[i]]) {
           ++nBeside;
           break;
         }
@@ -171,10 +232,10 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
         first.sz.z0 + first.sz.tanLambda * arc.arcLength(0.0, 0.0, 0.0);
     const double side = first.sz.tanLambda >= 0.0 ? 1.0 : -1.0;
     double meanSide = 0.0;
-    for (ConfIndex h : turn.hits) {
+    for (ConfIndex h : turnHits) {
       meanSide += side * (m_hits.z[h] - zStart);
     }
-    meanSide /= static_cast<double>(turn.hits.size());
+    meanSide /= static_cast<double>(turnHits.size());
     if (meanSide < -m_config.maxDz) {
       return false;
     }
@@ -193,7 +254,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
     for (std::size_t i = 0; i < s.size(); ++i) {
       const double z = first.sz.z0 + first.sz.tanLambda * (s[i] + k * period);
       const double path = std::abs(s[i] + k * period - first.sz.lastS);
-      worst = std::max(worst, std::abs(m_hits.z[turn.hits[i]] - z) /
+      worst = std::max(worst, std::abs(m_hits.z[turnHits[i]] - z) /
                                   (1.0 + path / pathScale));
       pathSum += path;
     }
@@ -216,6 +277,24 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
                        square(bestDz / m_config.turnScaleDz) +
                        square(distance / m_config.turnScaleDistance);
   return score <= m_config.maxTurnScore;
+}
+
+void TrackMerger::removeHit(TrackCandidate& c, ConfIndex hit) const {
+  std::vector<ConfIndex> hits = c.hits;
+  hits.erase(std::find(hits.begin(), hits.end(), hit));
+  const ConformalFitResult uv = fitConformal(m_hits, hits, c.uv.quadratic);
+  if (!uv.valid) {
+    return;
+  }
+  const SzFitResult sz =
+      fitSz(m_hits, hits, makeArcFrame(uv, m_hits, hits.front()));
+  if (!sz.valid) {
+    return;
+  }
+  c.hits = std::move(hits);
+  c.uv = uv;
+  c.sz = sz;
+  c.pt = uv.pt(m_state.bzForPt);
 }
 
 std::uint32_t TrackMerger::dropTurns() {
@@ -244,31 +323,26 @@ std::uint32_t TrackMerger::dropTurns() {
   // off the beam line: its conformal centre lies tens of millimetres off
   // (helix-step tracks have a free circle already; three-hit ones keep
   // theirs).
-  std::vector<TransverseCircle> circles(tracks.size());
+  std::vector<TurnCircle> circles(tracks.size());
   for (std::uint32_t t : order) {
-    const TrackCandidate& c = tracks[t];
-    if (c.helix || c.hits.size() < 4 ||
-        !fitCircle(m_hits, c.hits, circles[t])) {
-      circles[t].cx = c.uv.centreX;
-      circles[t].cy = c.uv.centreY;
-      circles[t].rho = c.uv.radius;
-    }
+    circles[t] = turnCircle(tracks[t]);
   }
   std::vector<std::pair<double, std::uint32_t>> byX;
   byX.reserve(order.size());
   for (std::uint32_t t : order) {
-    byX.emplace_back(circles[t].cx, t);
+    byX.emplace_back(circles[t].circle.cx, t);
   }
   std::sort(byX.begin(), byX.end());
   std::vector<std::uint32_t> turns;
   std::uint32_t dropped = 0;
   for (std::uint32_t t : order) {
     const TrackCandidate& first = tracks[t];
-    if (!first.alive || !(2.0 * circles[t].rho <= m_config.maxLoopDiameter)) {
+    if (!first.alive ||
+        !(2.0 * circles[t].circle.rho <= m_config.maxLoopDiameter)) {
       continue;
     }
     turns.clear();
-    const double centreX = circles[t].cx;
+    const double centreX = circles[t].circle.cx;
     auto it = std::lower_bound(
         byX.begin(), byX.end(),
         std::make_pair(centreX - m_config.maxTurnCentreDistance, 0u));
@@ -280,6 +354,13 @@ std::uint32_t TrackMerger::dropTurns() {
           isFurtherTurn(first, circles[t], tracks[u], circles[u])) {
         turns.push_back(u);
       }
+    }
+    // The first half-turn's end hit that its circle left out lies off the
+    // circle that its further turns were found on: it is another
+    // particle's (CLICdet tt-bar + 30 BX: kept, that hit made the Kalman
+    // fit of the first half-turn fail, and then neither track was left).
+    if (!turns.empty() && circles[t].hasOutlier) {
+      removeHit(tracks[t], circles[t].outlier);
     }
     for (std::uint32_t u : turns) {
       tracks[u].alive = false;

@@ -63,7 +63,9 @@ class TrackMerger {
     /// Twice that on CLICdet tt-bar + 30 BX (100 events) took the
     /// duplicate rate from 5.7 % to 4.7 % but lost 0.16 % of the particles
     /// of 0.1-1 GeV: turns far off their first half-turn's circle are not
-    /// told from neighbouring low-pT particles.
+    /// told from neighbouring low-pT particles. An end hit of a track
+    /// further than this from the free circle of its other hits is left
+    /// out of its circle (TurnCircle).
     double maxTurnDistance = 10.0;
     /// Largest distance of a further turn's circle centre, and of its
     /// radius, from the first half-turn's [mm]. The turn's circle is a
@@ -139,13 +141,26 @@ class TrackMerger {
   /// circle and s-z line, then the union refitted.
   bool mergeOnto(const TrackCandidate& ref, const TrackCandidate& other,
                  TrackCandidate& out) const;
-  /// True if `turn`, whose free circle is `turnCircle`, lies on a further
-  /// half-turn of the helix of `first`, whose free circle is `firstCircle`
-  /// (its turn score is at most Config::maxTurnScore).
-  bool isFurtherTurn(const TrackCandidate& first,
-                     const TransverseCircle& firstCircle,
+  /// A track's circle for the looper rule: the free circle of its hits,
+  /// or of all but one (`outlier`) if that hit lies further than
+  /// Config::maxTurnDistance from the circle of the others (turnCircle).
+  struct TurnCircle {
+    TransverseCircle circle;
+    bool hasOutlier = false;
+    ConfIndex outlier = 0;
+  };
+  /// The TurnCircle of track `c` (its conformal circle for a helix-step
+  /// track, which has a free one already, and where no free fit exists).
+  TurnCircle turnCircle(const TrackCandidate& c) const;
+  /// True if `turn` lies on a further half-turn of the helix of `first`
+  /// (its turn score is at most Config::maxTurnScore), each with its
+  /// TurnCircle; the turn's outlier hit is not tested.
+  bool isFurtherTurn(const TrackCandidate& first, const TurnCircle& firstCircle,
                      const TrackCandidate& turn,
-                     const TransverseCircle& turnCircle) const;
+                     const TurnCircle& turnCircle) const;
+  /// Removes `hit` from track `c` and refits its circle and s-z line;
+  /// leaves the track as it is if a refit fails.
+  void removeHit(TrackCandidate& c, ConfIndex hit) const;
   /// Drops further half-turns (Config::dropTurns); returns how many.
   std::uint32_t dropTurns();
   /// True if hits of the two pieces share a sensor, or lie on one layer
