@@ -222,7 +222,7 @@ TEST_F(FinderPhysics, TtbarWith30BunchCrossings) {
 TEST_F(FinderPhysics, FewDuplicatesWith30BunchCrossings) {
   // CLICdp duplicate rate (every matched track of a particle with two or
   // more, over all tracks) of the finder's tracks, before the fit and
-  // selection, tt-bar + 30 BX, 20 events: 0.96 % (111 of 11,549; 1.77 %
+  // selection, tt-bar + 30 BX, 20 events: 0.96 % (111 of 11,548; 1.77 %
   // before the looper rule's turn circles left a foreign end hit out,
   // 2.79 % before the s-z fit's turn choice, the track merging's outlier
   // hits, both pieces as reference, free-circle pairing and the mirror

@@ -1,8 +1,9 @@
 /// @file TrackMergingTests.cpp
 /// Track merging (detail/TrackMerging.hpp): two pieces of one helix become
 /// one track, without a hit of another particle that ended one of them,
-/// also when the particle was produced off the beam line; pieces of two
-/// different nearby helices stay apart; the chain keys and cuts. The
+/// also when the particle was produced off the beam line or scattered
+/// between them (below 1 GeV); pieces of two different nearby helices stay
+/// apart; the chain keys and cuts. The
 /// pieces are made directly (fitted hit lists in a FinderState), as the
 /// finder would leave them after a gap; loopers' further half-turns are in
 /// TrackMergingTurnsTests.cpp.
@@ -101,6 +102,40 @@ TEST(TrackMerging, DifferentNearbyHelicesStayApart) {
     EXPECT_EQ(f.merge(), 0u) << "case " << which;
     EXPECT_EQ(f.state->tracks.size(), 2u);
   }
+}
+
+TEST(TrackMerging, ScatteredLowMomentumPiecesAreMergedByTheirMomentum) {
+  // The outer piece (hits 5-8) is 70 um off in z from the inner piece's
+  // line (14 sigma): scattering between them, which each piece's own
+  // straight s-z line absorbs. The merged s-z chi2/ndf, about 16, is above
+  // 10 times the pieces' own (each exact, counted as 1). At 0.6 GeV
+  // (rho = 500 mm, p = 0.63 GeV) the bound grows by (1 GeV / p)^2 = 2.5,
+  // as scattering does, and the pieces merge; at 6 GeV they do not, nor
+  // at 0.6 GeV without the momentum's allowance.
+  constexpr double kOffset = 0.07;  // [mm]
+  const auto scattered = [&](const Detector& det, double rho) {
+    std::vector<Hit> hits = test::helixHits(det, rho, kPhi0, 1, kTanL, 1);
+    for (Hit& h : hits) {
+      if (h.id >= 5) {
+        h.position.z() += kOffset;
+      }
+    }
+    return hits;
+  };
+  for (double rho : {500.0, 5000.0}) {
+    Fixture f;
+    f.hits = scattered(f.det, rho);
+    ASSERT_EQ(f.hits.size(), 8u);
+    f.prepare({{1, 2, 3, 4}, {5, 6, 7, 8}});
+    EXPECT_EQ(f.merge(), rho < 1000.0 ? 1u : 0u) << rho;
+  }
+  Fixture g;
+  g.hits = scattered(g.det, 500.0);
+  g.prepare({{1, 2, 3, 4}, {5, 6, 7, 8}});
+  detail::TrackMerger::Config cfg;
+  cfg.scatteringMomentum = 1e-6;
+  cfg.dropTurns = false;  // a default circle of 1 m could loop
+  EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
 }
 
 TEST(TrackMerging, PieceEndingOnAnotherParticlesHitIsMergedWithoutIt) {
@@ -211,6 +246,9 @@ TEST(TrackMerging, CutsAreValidated) {
   EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
   bad = {};
   bad.maxTurnScore = std::nan("");
+  EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
+  bad = {};
+  bad.scatteringMomentum = 0.0;
   EXPECT_THROW(detail::TrackMerger(state, bad), std::invalid_argument);
 }
 

@@ -36,7 +36,9 @@
 //     piece's without its outliers): two nearby particles' pieces fit
 //     each other far worse than each fits itself (on CLICdet tt-bar + 30
 //     BX the ratio is about 1 for the pieces of one particle and about
-//     1000 for two particles). If the uv fit fails it and an outlier is
+//     1000 for two particles); the s-z bound is multiplied by
+//     (Config::scatteringMomentum / p)^2 below that momentum, for the
+//     scattering between the pieces. If the uv fit fails it and an outlier is
 //     left, the other piece's hit with the largest pull is left out and
 //     the fit repeated (a neighbouring particle's vertex-detector hit
 //     within maxDistance but far outside its errors). The chi2 cut of the
@@ -106,6 +108,10 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
   if (!positiveFinite(m_config.maxChi2Ratio) || m_config.maxChi2Ratio < 1.0) {
     throw std::invalid_argument(
         "TrackMerger: maxChi2Ratio must be finite and at least 1");
+  }
+  if (!positiveFinite(m_config.scatteringMomentum)) {
+    throw std::invalid_argument(
+        "TrackMerger: scatteringMomentum must be positive and finite");
   }
   if (!positiveFinite(m_config.maxTurnDistance)) {
     throw std::invalid_argument(
@@ -305,8 +311,15 @@ bool TrackMerger::mergeOnto(const TrackCandidate& ref,
   }
   const double pt = uv.pt(m_state.bzForPt);
   SzFitResult sz = fitSz(m_hits, hits, makeArcFrame(uv, m_hits, hits.front()));
+  // Scattering between the pieces adds to the merged s-z chi2 (whose
+  // errors hold none) in proportion to 1 / p^2.
+  const double momentum = pt * norm2(1.0, sz.tanLambda);
+  const double scattering =
+      momentum > 0.0
+          ? std::max(1.0, std::pow(m_config.scatteringMomentum / momentum, 2))
+          : 1.0;
   const double szBound =
-      m_config.maxChi2Ratio *
+      scattering * m_config.maxChi2Ratio *
       std::max({1.0, ref.sz.chi2PerNdf(), other.sz.chi2PerNdf()});
   if (!sz.valid || !passes(sz.chi2PerNdf(), szBound)) {
     return false;

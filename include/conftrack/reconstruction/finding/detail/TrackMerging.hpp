@@ -6,6 +6,7 @@
 /// later from the leftover hits) are joined into one track (issue 15; the
 /// algorithm is described in TrackMerging.cpp).
 
+#include "conftrack/core/Units.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 #include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
 
@@ -41,6 +42,14 @@ class TrackMerger {
     /// with the pieces' value counted as at least 1 (the steps' own chi2
     /// cuts are not applied: see TrackMerging.cpp).
     double maxChi2Ratio = 10.0;
+    /// Below this momentum the s-z bound (maxChi2Ratio times the pieces'
+    /// chi2/ndf) is multiplied by (scatteringMomentum / p)^2, p from the
+    /// merged fits [GeV]: the s-z fit's errors hold no multiple
+    /// scattering, and the scattering between two pieces, which each
+    /// piece's own line absorbs, adds to the merged chi2 in proportion to
+    /// 1 / p^2 (CLD tt-bar + 30 BX: pieces of one particle of 0.1-1 GeV
+    /// reached merged/own ratios of 15-260).
+    double scatteringMomentum = 1.0 * units::GeV;
     /// Hits of the piece tested against the other's circle and s-z line
     /// that may fail those tests (maxDistance, maxDz); they are left out
     /// of the merged track, which keeps at least three of the piece's
