@@ -6,7 +6,9 @@
 /// found across its apex, and also when either half-turn ends on another
 /// particle's hit; it never joins another particle's track, and other
 /// particles on nearby circles, beside the first half-turn or on the
-/// mirror image of a prompt looper are kept.
+/// mirror image of a prompt looper are kept. Incoming half-turns are
+/// listed inner hit first, as the finder finds them (outwards), and are
+/// recognised also when a short piece's conformal circle flips.
 ///
 /// Tolerances: the synthetic hits lie exactly on their helices (5 um
 /// errors); each test states the distances it puts a turn or a neighbour
@@ -43,7 +45,7 @@ TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
   // The incoming half-turn, found outwards: a track of opposite charge on
   // the same circle. Its hits are neither merged into the first half-turn
   // (they cross its layers far from its hits) nor kept as a second track.
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
@@ -51,7 +53,7 @@ TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
   // Without the looper rule the two half-turns stay two tracks (no merge).
   Fixture g;
   g.hits = f.hits;
-  g.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  g.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   detail::TrackMerger::Config cfg;
   cfg.dropTurns = false;
   EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
@@ -69,7 +71,7 @@ TEST(TrackMerging, ScatteredFurtherTurnIsStillRecognised) {
       h.position.z() += 21.0;
     }
   }
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
@@ -96,7 +98,7 @@ TEST(TrackMerging, ShrunkFurtherTurnIsRecognisedByItsFreeCircle) {
   // The piece fails a circle-through-the-origin cut (an extension, not a
   // build, would have made it).
   f.cfg.steps[0].chi2Cut = 1e9;
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54}});
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {54, 55, 56, 57}});
   const double conformalOffset =
       std::hypot(f.state->tracks[1].uv.centreX - centre.x(),
                  f.state->tracks[1].uv.centreY - centre.y());
@@ -159,7 +161,7 @@ TEST(TrackMerging, FurtherTurnOfADisplacedLooperIsRecognised) {
   // The displaced pieces fail a circle-through-the-origin cut (an
   // extension, not a build, would have made them).
   f.cfg.steps[0].chi2Cut = 1e9;
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   double offCircle = 0.0;
   const auto& first = f.state->tracks[0].uv;
   for (const Hit& h : f.hits) {
@@ -199,7 +201,7 @@ TEST(TrackMerging, LooperSecondHalfTurnDoesNotJoinAnotherTrack) {
   std::vector<Hit> other = test::helixHits(f.det, kRho, kPhi0, 1, 0.05, 101);
   f.hits.insert(f.hits.end(), other.begin(), other.end());
   f.prepare(
-      {{101, 102, 103, 104, 105, 106, 107, 108}, {57, 56, 55, 54, 53, 52, 51}});
+      {{101, 102, 103, 104, 105, 106, 107, 108}, {51, 52, 53, 54, 55, 56, 57}});
   EXPECT_EQ(f.merge(), 0u);
   ASSERT_EQ(f.state->tracks.size(), 2u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{101, 102, 103, 104, 105, 106,
@@ -241,7 +243,7 @@ TEST(TrackMerging, FurtherTurnShrunkByEnergyLossIsRecognised) {
   Fixture f;
   f.hits = hits;
   f.cfg.steps[0].chi2Cut = 1e9;
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
@@ -250,7 +252,7 @@ TEST(TrackMerging, FurtherTurnShrunkByEnergyLossIsRecognised) {
   Fixture g;
   g.hits = hits;
   g.cfg.steps[0].chi2Cut = 1e9;
-  g.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  g.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   detail::TrackMerger::Config cfg;
   cfg.turnDzPathScale = 1e12;
   EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
@@ -324,7 +326,7 @@ TEST(TrackMerging, FirstHalfTurnEndingOnAForeignHitStillDropsItsTurn) {
             60.0);
   f.hits.push_back(foreign);
   f.cfg.steps[0].chi2Cut = 1e9;
-  f.prepare({{1, 2, 3, 4, 5, 999}, {56, 55, 54, 53}});
+  f.prepare({{1, 2, 3, 4, 5, 999}, {53, 54, 55, 56}});
   // Premise: the free circle of all six hits is far from the looper's.
   detail::TransverseCircle all;
   ASSERT_TRUE(detail::fitCircle(f.conformal, f.state->tracks[0].hits, all));
@@ -334,11 +336,12 @@ TEST(TrackMerging, FirstHalfTurnEndingOnAForeignHitStillDropsItsTurn) {
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5}));
 }
 
-TEST(TrackMerging, FurtherTurnEndingOnAForeignHitIsStillDropped) {
-  // The incoming half-turn (R 120-40 mm) ends on another particle's hit on
-  // the 30 mm layer, 1 rad in azimuth from its own: the turn is recognised
-  // by its other hits (the foreign one, tens of millimetres off the
-  // looper's circle, would fail the distance-spread test).
+TEST(TrackMerging, FurtherTurnStartingOnAForeignHitIsStillDropped) {
+  // The incoming half-turn (R 40-120 mm, found outwards) starts on another
+  // particle's hit on the 30 mm layer, 1 rad in azimuth from its own: the
+  // turn is recognised by its other hits (the foreign one, tens of
+  // millimetres off the looper's circle, would fail the distance-spread
+  // test).
   constexpr double kLoopRho = 70.0;
   Fixture f;
   f.hits = looperHits(f.det, kLoopRho, 0.05);
@@ -350,10 +353,43 @@ TEST(TrackMerging, FurtherTurnEndingOnAForeignHitIsStillDropped) {
                                    inner * std::sin(phi), own.position.z(),
                                    999));
   f.cfg.steps[0].chi2Cut = 1e9;
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52, 999}});
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {999, 52, 53, 54, 55, 56, 57}});
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
+TEST(TrackMerging, TurnWhoseConformalCircleFlipsIsRecognised) {
+  // A 0.48 GeV looper (rho = 400 mm, tanLambda 0.3) whose incoming
+  // half-turn, moved 5 mm outwards by energy loss and scattering, passes
+  // 5 mm from the beam line. Its four vertex-barrel hits (R 30-65 mm,
+  // found outwards) bend by about a millimetre; a circle forced through
+  // the origin and them bends the other way, so that its conformal
+  // orientation equals the first half-turn's. Their order round the free
+  // circle, along which the s-z line measures tanLambda, is the opposite
+  // one: the turn is recognised (by the conformal orientation its
+  // tanLambda would differ by 0.6 from the first's).
+  constexpr double kLoopRho = 400.0;
+  constexpr double kShift = 5.0;
+  Fixture f;
+  f.hits = looperHits(f.det, kLoopRho, 0.3);
+  const Vector2 centre = looperCentre(kLoopRho);
+  const Vector2 moved = centre + kShift * centre.normalized();
+  for (Hit& h : f.hits) {
+    if (h.id > 50) {
+      moveOntoCircle(h, centre, moved, kLoopRho);
+    }
+  }
+  f.cfg.steps[0].chi2Cut = 1e9;
+  f.prepare({{1, 2, 3, 4, 5, 6, 7, 8}, {51, 52, 53, 54}});
+  ASSERT_EQ(f.state->tracks[0].uv.orientation,
+            f.state->tracks[1].uv.orientation);
+  // The default loop diameter (1.5 m): the 800 mm circle can loop.
+  detail::TrackMerger::Config cfg;
+  EXPECT_EQ(detail::TrackMerger(*f.state, cfg).run(), 1u);
+  f.state->compact();
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7, 8}));
 }
 
 TEST(TrackMerging, MirrorImageOfAPromptLooperIsKept) {
@@ -372,7 +408,7 @@ TEST(TrackMerging, MirrorImageOfAPromptLooperIsKept) {
       h.position.z() -= 2.0 * std::numbers::pi * kLoopRho * kTanLambda;
     }
   }
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {57, 56, 55, 54, 53, 52}});
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   EXPECT_EQ(f.merge(), 0u);
   EXPECT_EQ(f.state->tracks.size(), 2u);
 }
