@@ -137,9 +137,9 @@ class TrackMerger {
  private:
   /// A compatible pair: the merged hits and fits.
   struct Merge {
-    double score;
-    std::uint32_t a;
-    std::uint32_t b;
+    double score = 0.0;
+    std::uint32_t a = 0;
+    std::uint32_t b = 0;
     TrackCandidate merged;
   };
 
