@@ -20,10 +20,14 @@
 
 namespace conftrack::test {
 
-inline constexpr double kRho = 3000.0;  // [mm]: 3.6 GeV in 4 T
+/// The helix of the piece-merging tests: radius [mm] (3.6 GeV in 4 T),
+/// initial azimuth, dip.
+inline constexpr double kRho = 3000.0;
 inline constexpr double kPhi0 = 0.4;
 inline constexpr double kTanL = 0.3;
 
+/// One build step over the barrel whose fit the pieces are made with
+/// (chi2 cut 100, three hits: a piece of any length passes).
 inline FinderConfig chain() {
   FinderConfig cfg;
   FindingStep s;

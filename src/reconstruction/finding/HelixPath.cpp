@@ -40,7 +40,7 @@ bool circleThrough(double x1, double y1, double x2, double y2, double x3,
 /// Least-squares circle through points (algebraic distance, Kasa): exact
 /// for three points; false if degenerate or (numerically) straight.
 /// `orientation` comes from the first, middle and last points.
-bool fitCircle(const ConformalHits& hits, const std::vector<ConfIndex>& idx,
+bool fitCircle(const ConformalHits& hits, std::span<const ConfIndex> idx,
                TransverseCircle& out) {
   const std::size_t n = idx.size();
   if (n == 3) {

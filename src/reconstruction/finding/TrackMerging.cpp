@@ -282,26 +282,24 @@ bool TrackMerger::mergeOnto(const TrackCandidate& ref,
     // One hit of the other piece off the merged circle by less than
     // maxDistance but far beyond its errors (a neighbouring particle's
     // hit in the vertex detector): its worst-fitting hit is the outlier.
-    std::size_t worst = hits.size();
+    const ConfIndex kNone = std::numeric_limits<ConfIndex>::max();
+    ConfIndex worst = kNone;
     double worstPull = 0.0;
-    for (std::size_t i = 0; i < hits.size(); ++i) {
-      if (std::find(kept.begin(), kept.end(), hits[i]) == kept.end() ||
-          std::find(ref.hits.begin(), ref.hits.end(), hits[i]) !=
-              ref.hits.end()) {
-        continue;
+    for (ConfIndex h : kept) {
+      if (std::find(ref.hits.begin(), ref.hits.end(), h) != ref.hits.end()) {
+        continue;  // a hit of both pieces stays
       }
       double variance = 0.0;
-      const double r = uv.residual(m_hits, hits[i], variance);
+      const double r = uv.residual(m_hits, h, variance);
       if (r * r / variance > worstPull) {
         worstPull = r * r / variance;
-        worst = i;
+        worst = h;
       }
     }
-    if (worst < hits.size()) {
-      const ConfIndex dropped = hits[worst];
-      hits.erase(hits.begin() + static_cast<std::ptrdiff_t>(worst));
-      kept.erase(std::find(kept.begin(), kept.end(), dropped));
-      outlierHits.push_back(dropped);
+    if (worst != kNone) {
+      hits.erase(std::find(hits.begin(), hits.end(), worst));
+      kept.erase(std::find(kept.begin(), kept.end(), worst));
+      outlierHits.push_back(worst);
       bound = uvBound();
       uv = fitConformal(m_hits, hits, quadratic);
     }

@@ -46,6 +46,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -100,41 +101,30 @@ TrackMerger::TurnCircle TrackMerger::turnCircle(const TrackCandidate& c) const {
     return std::abs(norm2(m_hits.x[h] - circle.cx, m_hits.y[h] - circle.cy) -
                     circle.rho);
   };
-  thread_local std::vector<ConfIndex> others;
+  const std::span<const ConfIndex> hits(c.hits);
   double worstDistance = m_config.maxTurnDistance;
   for (const bool front : {true, false}) {
-    if (front) {
-      others.assign(c.hits.begin() + 1, c.hits.end());
-    } else {
-      others.assign(c.hits.begin(), c.hits.end() - 1);
-    }
-    const ConfIndex end = front ? c.hits.front() : c.hits.back();
+    const ConfIndex end = front ? hits.front() : hits.back();
     TransverseCircle withoutEnd;
-    if (fitCircle(m_hits, others, withoutEnd) &&
+    if (fitCircle(m_hits, hits.subspan(front ? 1 : 0, hits.size() - 1),
+                  withoutEnd) &&
         distance(withoutEnd, end) > worstDistance) {
       worstDistance = distance(withoutEnd, end);
       out.circle = withoutEnd;
-      out.hasOutlier = true;
-      out.outlier = end;
+      out.skipsFront = front;
+      out.skipsBack = !front;
     }
   }
   return out;
 }
 
 bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
-                                const TurnCircle& firstTurnCircle,
+                                const TurnCircle& firstFit,
                                 const TrackCandidate& turn,
-                                const TurnCircle& turnTurnCircle) const {
-  const TransverseCircle& firstCircle = firstTurnCircle.circle;
-  const TransverseCircle& turnCircle = turnTurnCircle.circle;
-  // The turn's hits but its outlier.
-  thread_local std::vector<ConfIndex> turnHits;
-  turnHits.clear();
-  for (ConfIndex h : turn.hits) {
-    if (!turnTurnCircle.hasOutlier || h != turnTurnCircle.outlier) {
-      turnHits.push_back(h);
-    }
-  }
+                                const TurnCircle& turnFit) const {
+  const TransverseCircle& firstCircle = firstFit.circle;
+  const TransverseCircle& turnCircle = turnFit.circle;
+  const std::span<const ConfIndex> turnHits = turnFit.hitsOf(turn);
   // (dropTurns passes only firsts whose circle can loop: maxLoopDiameter.)
   // Both half-turns are compared by their free circles: the first one's
   // conformal fit is a circle through the origin, which the half-turn of
@@ -288,9 +278,8 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   return score <= m_config.maxTurnScore;
 }
 
-void TrackMerger::removeHit(TrackCandidate& c, ConfIndex hit) const {
-  std::vector<ConfIndex> hits = c.hits;
-  hits.erase(std::find(hits.begin(), hits.end(), hit));
+void TrackMerger::refitTo(TrackCandidate& c,
+                          std::span<const ConfIndex> hits) const {
   const ConformalFitResult uv = fitConformal(m_hits, hits, c.uv.quadratic);
   if (!uv.valid) {
     return;
@@ -300,7 +289,8 @@ void TrackMerger::removeHit(TrackCandidate& c, ConfIndex hit) const {
   if (!sz.valid) {
     return;
   }
-  c.hits = std::move(hits);
+  // `hits` may view c.hits itself: copied before it is replaced.
+  c.hits = std::vector<ConfIndex>(hits.begin(), hits.end());
   c.uv = uv;
   c.sz = sz;
   c.pt = uv.pt(m_state.bzForPt);
@@ -368,8 +358,8 @@ std::uint32_t TrackMerger::dropTurns() {
     // circle that its further turns were found on: it is another
     // particle's (CLICdet tt-bar + 30 BX: kept, that hit made the Kalman
     // fit of the first half-turn fail, and then neither track was left).
-    if (!turns.empty() && circles[t].hasOutlier) {
-      removeHit(tracks[t], circles[t].outlier);
+    if (!turns.empty() && (circles[t].skipsFront || circles[t].skipsBack)) {
+      refitTo(tracks[t], circles[t].hitsOf(first));
     }
     for (std::uint32_t u : turns) {
       tracks[u].alive = false;

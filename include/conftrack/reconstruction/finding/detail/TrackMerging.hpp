@@ -151,25 +151,31 @@ class TrackMerger {
   bool mergeOnto(const TrackCandidate& ref, const TrackCandidate& other,
                  TrackCandidate& out) const;
   /// A track's circle for the looper rule: the free circle of its hits,
-  /// or of all but one (`outlier`) if that hit lies further than
+  /// or of all but an end hit that lies further than
   /// Config::maxTurnDistance from the circle of the others (turnCircle).
   struct TurnCircle {
     TransverseCircle circle;
-    bool hasOutlier = false;
-    ConfIndex outlier = 0;
+    bool skipsFront = false;  ///< the first hit is left out
+    bool skipsBack = false;   ///< the last hit is left out
+    /// The hits of `c` (the track it was made for) that it was fitted to.
+    std::span<const ConfIndex> hitsOf(const TrackCandidate& c) const {
+      return std::span<const ConfIndex>(c.hits).subspan(
+          skipsFront ? 1 : 0,
+          c.hits.size() - (skipsFront || skipsBack ? 1 : 0));
+    }
   };
   /// The TurnCircle of track `c` (its conformal circle for a helix-step
   /// track, which has a free one already, and where no free fit exists).
   TurnCircle turnCircle(const TrackCandidate& c) const;
   /// True if `turn` lies on a further half-turn of the helix of `first`
   /// (its turn score is at most Config::maxTurnScore), each with its
-  /// TurnCircle; the turn's outlier hit is not tested.
-  bool isFurtherTurn(const TrackCandidate& first, const TurnCircle& firstCircle,
+  /// TurnCircle; only the hits of the turn's circle are tested.
+  bool isFurtherTurn(const TrackCandidate& first, const TurnCircle& firstFit,
                      const TrackCandidate& turn,
-                     const TurnCircle& turnCircle) const;
-  /// Removes `hit` from track `c` and refits its circle and s-z line;
-  /// leaves the track as it is if a refit fails.
-  void removeHit(TrackCandidate& c, ConfIndex hit) const;
+                     const TurnCircle& turnFit) const;
+  /// Refits track `c` to `hits` (some of its own), circle and s-z line;
+  /// leaves the track as it is if a fit fails.
+  void refitTo(TrackCandidate& c, std::span<const ConfIndex> hits) const;
   /// Drops further half-turns (Config::dropTurns); returns how many.
   std::uint32_t dropTurns();
   /// True if hits of the two pieces share a sensor, or lie on one layer
