@@ -26,7 +26,9 @@ class Result:
     covariance: the covariance matrices, shape (n_tracks, 5, 5);
     hit_tracks: hit_id, track_id for every hit (0: on no track), a TrackML
       submission;
-    track_hits: track_id, hit_id, outlier for every hit of every track;
+    track_hits: track_id, hit_id, outlier for every hit of every track
+      (outlier as in the track files: 0 fitted, 1 rejected by the fit, 2
+      a looper's further-turn hit, joined but not fitted);
     steps: the finder's statistics per step; statistics: a dict of counts
       and times [ms] (conversion_ms: turning the hits into C++ hits).
     """

@@ -159,14 +159,13 @@ py::array_t<double> covariances(const ResultHandle& r) {
 py::dict trackHitColumns(const ResultHandle& r) {
   std::vector<std::int64_t> track;
   std::vector<std::int64_t> hit;
-  std::vector<bool> outlier;
+  std::vector<std::int64_t> outlier;  // HitUse, as in the track files
   const auto& tracks = r.result.tracks;
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     for (std::size_t k = 0; k < tracks[t].hits.size(); ++k) {
       track.push_back(static_cast<std::int64_t>(t + 1));
       hit.push_back(static_cast<std::int64_t>(r.hits[tracks[t].hits[k]].id));
-      outlier.push_back(!tracks[t].outlier.empty() &&
-                        tracks[t].outlier[k] != 0);
+      outlier.push_back(tracks[t].outlier.empty() ? 0 : tracks[t].outlier[k]);
     }
   }
   py::dict c;
@@ -175,7 +174,7 @@ py::dict trackHitColumns(const ResultHandle& r) {
   c["hit_id"] =
       column<std::int64_t>(hit.size(), [&](auto i) { return hit[i]; });
   c["outlier"] =
-      column<bool>(outlier.size(), [&](auto i) { return outlier[i]; });
+      column<std::int64_t>(outlier.size(), [&](auto i) { return outlier[i]; });
   return c;
 }
 

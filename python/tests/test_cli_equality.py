@@ -38,7 +38,7 @@ def compare(cli, events_dir, number, detector, tmp_path):
                                   cli_hits.track_id)
     np.testing.assert_array_equal(result.track_hits.hit_id, cli_hits.hit_id)
     np.testing.assert_array_equal(result.track_hits.outlier,
-                                  cli_hits.outlier.astype(bool))
+                                  cli_hits.outlier)
     pd.testing.assert_frame_equal(result.submission(number),
                                   cli_submission, check_dtype=False)
     return result

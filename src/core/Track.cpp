@@ -6,11 +6,17 @@ namespace conftrack {
 
 std::uint32_t Track::numOutliers() const {
   return static_cast<std::uint32_t>(
-      std::count(outlier.begin(), outlier.end(), std::uint8_t{1}));
+      std::count(outlier.begin(), outlier.end(), kOutlierHit));
+}
+
+std::uint32_t Track::numTurnHits() const {
+  return static_cast<std::uint32_t>(
+      std::count(outlier.begin(), outlier.end(), kTurnHit));
 }
 
 std::uint32_t Track::numMeasurements() const {
-  return static_cast<std::uint32_t>(hits.size()) - numOutliers();
+  return static_cast<std::uint32_t>(hits.size()) - numOutliers() -
+         numTurnHits();
 }
 
 }  // namespace conftrack

@@ -64,6 +64,15 @@ std::filesystem::path locate(const std::filesystem::path& dir,
   return hasPlain ? plain : gz;
 }
 
+/// A track-hits `outlier` field: a HitUse (0, 1 or 2).
+std::uint8_t hitUse(const CsvReader& csv, std::size_t column) {
+  const auto value = csv.getInteger<std::uint8_t>(column);
+  if (value > kTurnHit) {
+    csv.failField(column, "is not 0, 1 or 2");
+  }
+  return value;
+}
+
 /// A 0/1 field as a bool.
 bool flag(const CsvReader& csv, std::size_t column) {
   const auto value = csv.getInteger<std::uint8_t>(column);
@@ -148,7 +157,14 @@ void writeTrackHitTable(const std::filesystem::path& file,
       }
       csv.add(static_cast<std::uint64_t>(i));
       csv.add(hits[t.hits[k]].id);
-      csv.add(!t.outlier.empty() && t.outlier[k] != 0 ? 1 : 0);
+      const std::uint8_t use =
+          t.outlier.empty() ? std::uint8_t{kFittedHit} : t.outlier[k];
+      if (use > kTurnHit) {
+        throw std::invalid_argument("writeTrackHitTable: hit use " +
+                                    std::to_string(use) + " of track " +
+                                    std::to_string(i) + " is not a HitUse");
+      }
+      csv.add(static_cast<std::uint64_t>(use));
       csv.endRow();
     }
   }
@@ -282,7 +298,8 @@ std::vector<Track> parseTrackFiles(std::string tracksText,
       }
       Track& t = tracks[track->second];
       t.hits.push_back(hit->second);
-      t.outlier.push_back(cOutlier && flag(csv, *cOutlier) ? 1 : 0);
+      t.outlier.push_back(cOutlier ? hitUse(csv, *cOutlier)
+                                   : std::uint8_t{kFittedHit});
     }
   }
   for (std::size_t i = 0; i < tracks.size(); ++i) {

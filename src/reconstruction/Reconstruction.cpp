@@ -1,5 +1,6 @@
 #include "conftrack/reconstruction/Reconstruction.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 namespace conftrack {
@@ -18,7 +19,9 @@ FitInput fitInput(const FoundTrack& found) {
 
 Track withFit(const FoundTrack& found, Track fitted) {
   Track track = toTrack(found);
-  track.outlier = std::move(fitted.outlier);
+  // The fit's flags for the hits it was given; further-turn hits follow.
+  std::copy(fitted.outlier.begin(), fitted.outlier.end(),
+            track.outlier.begin());
   track.fitted = fitted.fitted;
   track.atIp = fitted.atIp;
   track.atFirstHit = fitted.atFirstHit;

@@ -35,7 +35,8 @@ std::vector<Hit> makeHits() {
 }
 
 /// Tracks with awkward numbers: full-precision doubles, a random positive
-/// definite covariance, outliers, an unfitted track and an empty one.
+/// definite covariance, outliers, a further-turn hit, an unfitted track
+/// and an empty one.
 std::vector<Track> makeTracks() {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> normal;
@@ -64,7 +65,10 @@ std::vector<Track> makeTracks() {
     t.fitted = i != 2;
     for (HitIndex h = 0; h < 3 + i; ++h) {
       t.hits.push_back(static_cast<HitIndex>(37 - 5 * i - h));
-      t.outlier.push_back(h == 1 && i == 1 ? 1 : 0);
+      // Track 1: an outlier; track 2: a looper's further-turn hit last.
+      t.outlier.push_back(h == 1 && i == 1       ? kOutlierHit
+                          : h == 2 + i && i == 2 ? kTurnHit
+                                                 : kFittedHit);
     }
   }
   tracks[3].hits.clear();
@@ -148,13 +152,13 @@ TEST_F(TrackFiles, RoundTripIsExact) {
 TEST_F(TrackFiles, HeaderAndHitIds) {
   const auto hits = makeHits();
   std::vector<Track> tracks(1);
-  tracks[0].hits = {2, 0};
-  tracks[0].outlier = {0, 1};
+  tracks[0].hits = {2, 0, 1};
+  tracks[0].outlier = {kFittedHit, kOutlierHit, kTurnHit};
   writeTracks(m_dir, 1, hits, tracks);
   std::ifstream in(m_dir / trackFileName(1, TrackFileKind::eTrackHits, false));
   std::string text((std::istreambuf_iterator<char>(in)),
                    std::istreambuf_iterator<char>());
-  EXPECT_EQ(text, "track_id,hit_id,outlier\n0,17,0\n0,3,1\n");
+  EXPECT_EQ(text, "track_id,hit_id,outlier\n0,17,0\n0,3,1\n0,10,2\n");
   std::ifstream tin(m_dir / trackFileName(1, TrackFileKind::eTracks, false));
   std::string header;
   std::getline(tin, header);
@@ -288,7 +292,7 @@ TEST_F(TrackFiles, BadTrackHitRows) {
               HasSubstr("hit_id 3 appears twice on track 0"));
   EXPECT_THAT(
       errorOf(kHeader + row(0), kHitsHeader + "0,3,5\n", "track-hits", 2),
-      HasSubstr("column 'outlier': '5' is not 0 or 1"));
+      HasSubstr("column 'outlier': '5' is not 0, 1 or 2"));
   EXPECT_THAT(errorOf(kHeader + row(0), kHitsHeader + "0,3\n", "track-hits", 2),
               HasSubstr("expected 3 fields as in the header, found 2"));
 }

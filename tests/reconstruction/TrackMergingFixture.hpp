@@ -72,10 +72,13 @@ struct Fixture {
     detail::mergeTracks(*state, stats);
     return static_cast<std::uint32_t>(stats.mergedTracks);
   }
-  std::vector<std::uint64_t> ids(std::size_t t) const {
+  /// Hit ids of track t (its fitted hits, or with turns = true the hits
+  /// of further half-turns joined to it).
+  std::vector<std::uint64_t> ids(std::size_t t, bool turns = false) const {
     std::vector<std::uint64_t> out;
-    for (ConfIndex c : state->tracks[t].hits) {
-      out.push_back(conformal.id[c]);
+    const TrackCandidate& c = state->tracks[t];
+    for (ConfIndex h : turns ? c.turnHits : c.hits) {
+      out.push_back(conformal.id[h]);
     }
     return out;
   }

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "SyntheticHits.hpp"
@@ -57,6 +58,57 @@ TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
   detail::TrackMerger::Config cfg;
   cfg.dropTurns = false;
   EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
+}
+
+TEST(TrackMerging, WellMatchedFurtherTurnJoinsTheFirstHalfTurnsTrack) {
+  // The incoming half-turn on the first one's helix (turn score near 0):
+  // its hits join the first half-turn's track, outside its fits, so that
+  // the track holds all of the particle's hits.
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.05);
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
+  const TrackCandidate before = f.state->tracks[0];
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(f.ids(0, true),
+            (std::vector<std::uint64_t>{52, 53, 54, 55, 56, 57}));
+  EXPECT_DOUBLE_EQ(f.state->tracks[0].uv.chi2, before.uv.chi2);
+  EXPECT_DOUBLE_EQ(f.state->tracks[0].sz.tanLambda, before.sz.tanLambda);
+
+  // With maxJoinScore 0 the turn is dropped and its hits left alone.
+  Fixture g;
+  g.hits = f.hits;
+  g.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
+  detail::TrackMerger::Config cfg;
+  cfg.maxJoinScore = 0.0;
+  EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 1u);
+  g.state->compact();
+  ASSERT_EQ(g.state->tracks.size(), 1u);
+  EXPECT_TRUE(g.ids(0, true).empty());
+
+  cfg.maxJoinScore = cfg.maxTurnScore + 1.0;
+  EXPECT_THROW(detail::TrackMerger(*g.state, cfg), std::invalid_argument);
+}
+
+TEST(TrackMerging, LooselyMatchedFurtherTurnIsDroppedNotJoined) {
+  // The incoming half-turn 40 mm off in z: a further turn within the
+  // gates (divided by 1 + path / 94 mm at 0.094 GeV, its hits' z distance
+  // is at most 15.5 mm, inside the 20 mm gate), but that gives a turn
+  // score near 10, above maxJoinScore (4): as likely another particle on a
+  // nearby circle as this one's turn (CLICdet: 61-83 % the same particle
+  // at such scores), so its hits stay off the first half-turn's track.
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.5);
+  for (Hit& h : f.hits) {
+    if (h.id > 50) {
+      h.position.z() += 40.0;
+    }
+  }
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_TRUE(f.ids(0, true).empty());
 }
 
 TEST(TrackMerging, ScatteredFurtherTurnIsStillRecognised) {

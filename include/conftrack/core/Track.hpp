@@ -32,11 +32,22 @@ struct TrackState {
   TrackCovariance covariance = TrackCovariance::Zero();
 };
 
+/// What a track does with one of its hits (Track::outlier).
+enum HitUse : std::uint8_t {
+  kFittedHit = 0,   ///< a measurement of the fit
+  kOutlierHit = 1,  ///< rejected by the fit
+  /// On a looper's further half-turn, joined to the track but not fitted:
+  /// the fit measures the first half-turn (docs/algorithm.md 3.17).
+  kTurnHit = 2,
+};
+
 /// A track of one event.
 struct Track {
-  /// Hits along the path (event hit indices), including outliers.
+  /// Hits along the path (event hit indices), including outliers; a
+  /// looper's further-turn hits follow those of its first half-turn.
   std::vector<HitIndex> hits;
-  /// Per hit: true if the fit rejected it as an outlier.
+  /// Per hit: a HitUse (0: fitted; non-zero: an outlier in the ACTS sense,
+  /// on the track but not in its fit).
   std::vector<std::uint8_t> outlier;
   /// Finding: step that created the track, pT and charge estimates from
   /// the conformal fit, and its two chi2/ndf values.
@@ -56,9 +67,12 @@ struct Track {
   double chi2 = 0.0;
   int ndf = 0;
 
-  /// Number of hits used in the fit (not outliers).
+  /// Number of hits used in the fit (kFittedHit).
   std::uint32_t numMeasurements() const;
+  /// Number of hits that the fit rejected (kOutlierHit).
   std::uint32_t numOutliers() const;
+  /// Number of a looper's further-turn hits (kTurnHit).
+  std::uint32_t numTurnHits() const;
 };
 
 }  // namespace conftrack

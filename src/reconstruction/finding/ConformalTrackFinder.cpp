@@ -16,7 +16,8 @@ namespace conftrack {
 Track toTrack(const FoundTrack& found) {
   Track t;
   t.hits = found.hits;
-  t.outlier.assign(found.hits.size(), 0);
+  t.outlier.assign(found.hits.size(), kFittedHit);
+  appendTurnHits(found, t);
   t.findingStep = found.step;
   t.ptEstimate = found.pt;
   t.chargeEstimate = found.charge;
@@ -25,6 +26,12 @@ Track toTrack(const FoundTrack& found) {
   t.chi2Sz = found.sz.chi2;
   t.ndfSz = found.sz.ndf;
   return t;
+}
+
+void appendTurnHits(const FoundTrack& found, Track& track) {
+  track.hits.insert(track.hits.end(), found.turnHits.begin(),
+                    found.turnHits.end());
+  track.outlier.insert(track.outlier.end(), found.turnHits.size(), kTurnHit);
 }
 
 ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
@@ -179,6 +186,10 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
     out.hits.reserve(t.hits.size());
     for (ConfIndex h : t.hits) {
       out.hits.push_back(conformal.original[h]);
+    }
+    out.turnHits.reserve(t.turnHits.size());
+    for (ConfIndex h : t.turnHits) {
+      out.turnHits.push_back(conformal.original[h]);
     }
     out.uv = t.uv;
     out.sz = t.sz;

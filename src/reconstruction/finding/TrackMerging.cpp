@@ -128,6 +128,11 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
         "TrackMerger: the turn gates, scales and maxTurnScore must be "
         "positive and finite");
   }
+  if (!(m_config.maxJoinScore >= 0.0 &&
+        m_config.maxJoinScore <= m_config.maxTurnScore)) {
+    throw std::invalid_argument(
+        "TrackMerger: maxJoinScore must lie in [0, maxTurnScore]");
+  }
   if (!positiveFinite(m_config.maxLoopDiameter)) {
     throw std::invalid_argument(
         "TrackMerger: maxLoopDiameter must be positive and finite");

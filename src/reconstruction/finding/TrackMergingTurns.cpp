@@ -46,6 +46,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -118,10 +119,9 @@ TrackMerger::TurnCircle TrackMerger::turnCircle(const TrackCandidate& c) const {
   return out;
 }
 
-bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
-                                const TurnCircle& firstFit,
-                                const TrackCandidate& turn,
-                                const TurnCircle& turnFit) const {
+std::optional<double> TrackMerger::furtherTurnScore(
+    const TrackCandidate& first, const TurnCircle& firstFit,
+    const TrackCandidate& turn, const TurnCircle& turnFit) const {
   const TransverseCircle& firstCircle = firstFit.circle;
   const TransverseCircle& turnCircle = turnFit.circle;
   const std::span<const ConfIndex> turnHits = turnFit.hitsOf(turn);
@@ -137,7 +137,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
       norm2(firstCircle.cx - turnCircle.cx, firstCircle.cy - turnCircle.cy);
   if (centreDistance > m_config.maxTurnCentreDistance ||
       std::abs(radius - turnCircle.rho) > m_config.maxTurnCentreDistance) {
-    return false;
+    return std::nullopt;
   }
   // A turn crossed in the opposite sense (the incoming half-turn, found
   // as an outgoing track of opposite charge) runs backwards in z. The
@@ -171,7 +171,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
   const double meanOff = sumOff / static_cast<double>(turnHits.size());
   const double spread = std::max(maxOff - meanOff, meanOff - minOff);
   if (!(spread <= m_config.maxTurnDistance)) {
-    return false;
+    return std::nullopt;
   }
   const ArcFrame arc = makeArcFrame(first.uv, m_hits, first.hits.front());
   const double period = 2.0 * std::numbers::pi * arc.radius;
@@ -236,7 +236,7 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
     }
     meanSide /= static_cast<double>(turnHits.size());
     if (meanSide < -m_config.maxDz) {
-      return false;
+      return std::nullopt;
     }
   }
   // The z test takes the best whole number of turns k; the transverse
@@ -263,11 +263,11 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
     }
   }
   if (!(bestDz <= m_config.maxDz)) {
-    return false;
+    return std::nullopt;
   }
   const double meanDistance = std::abs(meanOff) / (1.0 + meanPath / pathScale);
   if (!(meanDistance <= m_config.maxTurnDistance)) {
-    return false;
+    return std::nullopt;
   }
   const double distance = std::max(spread, meanDistance);
   const auto square = [](double x) { return x * x; };
@@ -275,7 +275,10 @@ bool TrackMerger::isFurtherTurn(const TrackCandidate& first,
                        square(centreDistance / m_config.turnScaleCentre) +
                        square(bestDz / m_config.turnScaleDz) +
                        square(distance / m_config.turnScaleDistance);
-  return score <= m_config.maxTurnScore;
+  if (!(score <= m_config.maxTurnScore)) {
+    return std::nullopt;
+  }
+  return score;
 }
 
 void TrackMerger::refitTo(TrackCandidate& c,
@@ -332,7 +335,7 @@ std::uint32_t TrackMerger::dropTurns() {
     byX.emplace_back(circles[t].circle.cx, t);
   }
   std::sort(byX.begin(), byX.end());
-  std::vector<std::uint32_t> turns;
+  std::vector<std::pair<std::uint32_t, double>> turns;  // (track, score)
   std::uint32_t dropped = 0;
   for (std::uint32_t t : order) {
     const TrackCandidate& first = tracks[t];
@@ -349,9 +352,12 @@ std::uint32_t TrackMerger::dropTurns() {
            it->first <= centreX + m_config.maxTurnCentreDistance;
          ++it) {
       const std::uint32_t u = it->second;
-      if (rank[u] > rank[t] && tracks[u].alive &&
-          isFurtherTurn(first, circles[t], tracks[u], circles[u])) {
-        turns.push_back(u);
+      if (rank[u] <= rank[t] || !tracks[u].alive) {
+        continue;
+      }
+      if (const std::optional<double> score =
+              furtherTurnScore(first, circles[t], tracks[u], circles[u])) {
+        turns.emplace_back(u, *score);
       }
     }
     // The first half-turn's end hit that its circle left out lies off the
@@ -361,8 +367,16 @@ std::uint32_t TrackMerger::dropTurns() {
     if (!turns.empty() && (circles[t].skipsFront || circles[t].skipsBack)) {
       refitTo(tracks[t], circles[t].hitsOf(first));
     }
-    for (std::uint32_t u : turns) {
+    // A well-matched turn is the same particle nearly always, and its
+    // hits join the first half-turn's track; a looser one may be another
+    // particle on a nearby circle, whose hits would make the track impure.
+    for (const auto& [u, score] : turns) {
       tracks[u].alive = false;
+      if (score <= m_config.maxJoinScore) {
+        std::vector<ConfIndex>& joined = tracks[t].turnHits;
+        joined.insert(joined.end(), tracks[u].hits.begin(),
+                      tracks[u].hits.end());
+      }
       ++dropped;
     }
   }

@@ -177,9 +177,9 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
     for (Track& t : tracks) {
       std::size_t n = 0;
       for (std::size_t k = 0; k < t.hits.size(); ++k) {
-        if (t.outlier[k] == 0) {
+        if (t.outlier[k] != kOutlierHit) {
           t.hits[n] = t.hits[k];
-          t.outlier[n] = 0;
+          t.outlier[n] = t.outlier[k];
           ++n;
         }
       }

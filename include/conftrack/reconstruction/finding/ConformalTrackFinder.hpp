@@ -20,6 +20,9 @@ namespace conftrack {
 /// A found track: event hit indices along the path plus the finder's fits.
 struct FoundTrack {
   std::vector<HitIndex> hits;
+  /// Hits of the particle's further half-turns (loopers), joined to the
+  /// track but not fitted: the fit measures the first half-turn.
+  std::vector<HitIndex> turnHits;
   ConformalFitResult uv;
   SzFitResult sz;
   double pt = 0.0;
@@ -31,6 +34,9 @@ struct FoundTrack {
 /// A Track with the finder's information (hits, estimates, fit quality);
 /// not yet fitted.
 Track toTrack(const FoundTrack& found);
+
+/// Appends found.turnHits to the track's hits, flagged kTurnHit.
+void appendTurnHits(const FoundTrack& found, Track& track);
 
 /// Output of the finder for one event.
 struct FindingResult {

@@ -27,6 +27,10 @@ struct TrackCandidate {
   bool helix = false;
   /// False once removed by the clone treatment.
   bool alive = true;
+  /// Hits of the particle's further half-turns (a looper found once per
+  /// half-turn; TrackMerger::dropTurns), joined to this track but in none
+  /// of its fits.
+  std::vector<ConfIndex> turnHits;
 
   /// chi2_uv/ndf + chi2_sz/ndf (algorithm.md 7.4, linear sum).
   double quality() const { return uv.chi2PerNdf() + sz.chi2PerNdf(); }

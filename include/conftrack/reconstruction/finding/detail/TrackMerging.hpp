@@ -11,6 +11,7 @@
 #include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -107,6 +108,14 @@ class TrackMerger {
     /// 2.49 % and 97.54 %, 25 2.26 % and 97.41 %; before the distance's
     /// path allowance, 12 4.05 %, 16 3.68 %, 25 3.30 %).
     double maxTurnScore = 16.0;
+    /// Largest turn score of a further turn whose hits join the first
+    /// half-turn's track (TrackCandidate::turnHits: on the track, in none
+    /// of its fits); a turn scoring above it, up to maxTurnScore, is
+    /// dropped and its hits are left alone. On CLICdet tt-bar + 30 BX (40
+    /// events, turns matched to the truth) the turn is the first
+    /// half-turn's particle in 99 % of the turns scoring at most 1, 97 %
+    /// at 2-4, 83 % at 4-8, 61 % at 8-12 and 39 % at 12-16. 0 joins none.
+    double maxJoinScore = 4.0;
     /// The z distance of a turn hit from the first half-turn's helix, and
     /// the mean transverse distance of its hits, are divided by
     /// 1 + path / scale, path being the arc length from the first
@@ -167,16 +176,20 @@ class TrackMerger {
   /// The TurnCircle of track `c` (its conformal circle for a helix-step
   /// track, which has a free one already, and where no free fit exists).
   TurnCircle turnCircle(const TrackCandidate& c) const;
-  /// True if `turn` lies on a further half-turn of the helix of `first`
-  /// (its turn score is at most Config::maxTurnScore), each with its
-  /// TurnCircle; only the hits of the turn's circle are tested.
-  bool isFurtherTurn(const TrackCandidate& first, const TurnCircle& firstFit,
-                     const TrackCandidate& turn,
-                     const TurnCircle& turnFit) const;
+  /// The turn score of `turn` as a further half-turn of the helix of
+  /// `first`, each with its TurnCircle (only the hits of the turn's circle
+  /// are tested); nothing if it fails a gate or scores above
+  /// Config::maxTurnScore.
+  std::optional<double> furtherTurnScore(const TrackCandidate& first,
+                                         const TurnCircle& firstFit,
+                                         const TrackCandidate& turn,
+                                         const TurnCircle& turnFit) const;
   /// Refits track `c` to `hits` (some of its own), circle and s-z line;
   /// leaves the track as it is if a fit fails.
   void refitTo(TrackCandidate& c, std::span<const ConfIndex> hits) const;
-  /// Drops further half-turns (Config::dropTurns); returns how many.
+  /// Drops further half-turns (Config::dropTurns), joining the hits of
+  /// those that score at most Config::maxJoinScore to their first
+  /// half-turn's track; returns how many.
   std::uint32_t dropTurns();
   /// True if hits of the two pieces share a sensor, or lie on one layer
   /// further apart than an overlap.
