@@ -62,6 +62,9 @@ struct Fixture {
         }
       }
       ASSERT_EQ(list.size(), ids.size());
+      for (ConfIndex c : list) {
+        state->used[c] = 1;  // on a track, as the finder marks them
+      }
       TrackCandidate t;
       ASSERT_TRUE(detail::fitCandidate(*state, cfg.steps[0], list, t));
       state->tracks.push_back(t);

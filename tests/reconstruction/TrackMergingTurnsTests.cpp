@@ -6,7 +6,9 @@
 /// found across its apex, and also when either half-turn ends on another
 /// particle's hit; it never joins another particle's track, and other
 /// particles on nearby circles, beside the first half-turn or on the
-/// mirror image of a prompt looper are kept. Incoming half-turns are
+/// mirror image of a prompt looper are kept. Well-matched further turns,
+/// and unused hits on the helix a whole number of turns on, join the
+/// first half-turn's track unfitted. Incoming half-turns are
 /// listed inner hit first, as the finder finds them (outwards), and are
 /// recognised also when a short piece's conformal circle flips.
 ///
@@ -71,8 +73,10 @@ TEST(TrackMerging, WellMatchedFurtherTurnJoinsTheFirstHalfTurnsTrack) {
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+  // Then the incoming half-turn's first hit, on no track, joins too
+  // (collectTurnHits).
   EXPECT_EQ(f.ids(0, true),
-            (std::vector<std::uint64_t>{52, 53, 54, 55, 56, 57}));
+            (std::vector<std::uint64_t>{52, 53, 54, 55, 56, 57, 51}));
   EXPECT_DOUBLE_EQ(f.state->tracks[0].uv.chi2, before.uv.chi2);
   EXPECT_DOUBLE_EQ(f.state->tracks[0].sz.tanLambda, before.sz.tanLambda);
 
@@ -82,6 +86,7 @@ TEST(TrackMerging, WellMatchedFurtherTurnJoinsTheFirstHalfTurnsTrack) {
   g.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
   detail::TrackMerger::Config cfg;
   cfg.maxJoinScore = 0.0;
+  cfg.maxTurnHitScore = 0.0;
   EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 1u);
   g.state->compact();
   ASSERT_EQ(g.state->tracks.size(), 1u);
@@ -89,6 +94,39 @@ TEST(TrackMerging, WellMatchedFurtherTurnJoinsTheFirstHalfTurnsTrack) {
 
   cfg.maxJoinScore = cfg.maxTurnScore + 1.0;
   EXPECT_THROW(detail::TrackMerger(*g.state, cfg), std::invalid_argument);
+}
+
+TEST(TrackMerging, UnusedHitsOnAFurtherTurnJoinTheTrack) {
+  // Only the first half-turn is a track; the incoming half-turn's hits
+  // are on none (no step built them). They lie on its helix half a turn
+  // on and join it, not fitted: the track then holds every hit of its
+  // particle. A hit moved 2 mm off the circle (another particle's; the
+  // band is 0.95 mm at the default score of 0.1) stays unused.
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.05);
+  const Vector2 centre = looperCentre(70.0);
+  for (Hit& h : f.hits) {
+    if (h.id == 55) {
+      moveOntoCircle(h, centre, centre, 72.0);
+    }
+  }
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}});
+  const TrackCandidate before = f.state->tracks[0];
+  EXPECT_EQ(f.merge(), 0u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  std::vector<std::uint64_t> joined = f.ids(0, true);
+  std::sort(joined.begin(), joined.end());
+  EXPECT_EQ(joined, (std::vector<std::uint64_t>{51, 52, 53, 54, 56, 57}));
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_DOUBLE_EQ(f.state->tracks[0].sz.tanLambda, before.sz.tanLambda);
+
+  // None where the chain's tracks end within half a turn (TrackML).
+  Fixture g;
+  g.hits = f.hits;
+  g.cfg.maxTrackTurns = 0.5;
+  g.prepare({{1, 2, 3, 4, 5, 6, 7}});
+  g.merge();
+  EXPECT_TRUE(g.ids(0, true).empty());
 }
 
 TEST(TrackMerging, LooselyMatchedFurtherTurnIsDroppedNotJoined) {

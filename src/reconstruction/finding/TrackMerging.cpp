@@ -128,6 +128,11 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
         "TrackMerger: the turn gates, scales and maxTurnScore must be "
         "positive and finite");
   }
+  if (!(m_config.maxTurnHitScore >= 0.0 &&
+        std::isfinite(m_config.maxTurnHitScore))) {
+    throw std::invalid_argument(
+        "TrackMerger: maxTurnHitScore must be finite and >= 0");
+  }
   if (!(m_config.maxJoinScore >= 0.0 &&
         m_config.maxJoinScore <= m_config.maxTurnScore)) {
     throw std::invalid_argument(
@@ -463,6 +468,11 @@ void mergeTracks(FinderState& state, StepStats& stats) {
     outer = std::max(outer, layer.rMax);
   }
   config.maxLoopDiameter = outer;
+  // Where the chain's tracks end within less than a turn (TrackML, whose
+  // particles stop after half a turn), no track has further turns.
+  if (state.config.maxTrackTurns > 0.0 && state.config.maxTrackTurns < 1.0) {
+    config.maxTurnHitScore = 0.0;
+  }
   TrackMerger merger(state, config);
   stats.mergedTracks += merger.run();
   state.compact();

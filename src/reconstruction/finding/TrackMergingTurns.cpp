@@ -380,6 +380,9 @@ std::uint32_t TrackMerger::dropTurns() {
       ++dropped;
     }
   }
+  if (m_config.maxTurnHitScore > 0.0) {
+    collectTurnHits(order, circles);
+  }
   return dropped;
 }
 

@@ -1,0 +1,165 @@
+// Track merging, the last part of the looper rule (TrackMerger::
+// collectTurnHits; the rule itself is in TrackMergingTurns.cpp).
+//
+// A looper curls through the same layers turn after turn. The finder
+// builds tracks of some of its half-turns, and the looper rule joins those
+// to the first half-turn's track (Config::maxJoinScore); the hits of the
+// other turns, of which no track was built (too few hits in a row, hits
+// shared with neighbours when the steps ran), stay unused. Then the track
+// holds less than half of its particle's hits: a fake in the ACTS double
+// matching (CLICdet tt-bar + 30 BX: most such tracks are of overlay
+// particles below 0.3 GeV, many below 0.1 GeV, curling inside the vertex
+// detector).
+//
+// Here each unused hit close to a looping track's helix some whole number
+// of turns on joins that track: within Config::maxTurnHitScore of it, the
+// transverse distance from the track's free circle over turnScaleDistance
+// and the z distance from its helix (the s-z line continued from its last
+// hit, k = 0..kMaxTurns turns on) over turnScaleDz, squared and summed.
+// Unlike a further turn of several hits, a single hit carries no
+// direction, radius or tanLambda of its own, so the test is much tighter
+// than the turn rule's and takes no allowance for the path: it keeps the
+// hits that energy loss and scattering have not yet moved off the first
+// half-turn's helix. A hit that several tracks claim goes to the one it
+// scores best with (ties by track, then hit index: the same for any
+// thread count).
+// The unused hits (about a sixth of CLICdet's at 30 BX) are sorted by x,
+// and each track tests those within its circle's x and y range.
+
+#include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <span>
+#include <tuple>
+#include <vector>
+
+namespace conftrack::detail {
+
+namespace {
+
+/// Turns searched beyond a track's last hit (as the turn rule's).
+constexpr int kMaxTurns = 3;
+
+/// The unused hits sorted by x, for the hits within a circle's x range.
+class UnusedHits {
+ public:
+  UnusedHits(const ConformalHits& hits, const std::vector<std::uint8_t>& used)
+      : m_hits(&hits) {
+    for (ConfIndex h = 0; h < hits.size(); ++h) {
+      if (used[h] == 0) {
+        m_byX.push_back(h);
+      }
+    }
+    std::sort(m_byX.begin(), m_byX.end(), [&](ConfIndex a, ConfIndex b) {
+      return std::tie(hits.x[a], a) < std::tie(hits.x[b], b);
+    });
+    m_x.reserve(m_byX.size());
+    for (ConfIndex h : m_byX) {
+      m_x.push_back(hits.x[h]);
+    }
+  }
+
+  /// Calls f(h) for each hit in the square around the circle widened by
+  /// `band` (a superset of the hits within `band` of it).
+  template <class F>
+  void forEachNear(const TransverseCircle& c, double band, F&& f) const {
+    const double half = c.rho + band;
+    auto k = static_cast<std::size_t>(
+        std::lower_bound(m_x.begin(), m_x.end(), c.cx - half) - m_x.begin());
+    for (; k < m_x.size() && m_x[k] <= c.cx + half; ++k) {
+      const ConfIndex h = m_byX[k];
+      if (std::abs(m_hits->y[h] - c.cy) <= half) {
+        f(h);
+      }
+    }
+  }
+
+ private:
+  const ConformalHits* m_hits;
+  std::vector<ConfIndex> m_byX;
+  std::vector<double> m_x;
+};
+
+/// A hit that a track could take, with its score.
+struct Claim {
+  double score;
+  std::uint32_t track;
+  ConfIndex hit;
+};
+
+}  // namespace
+
+std::uint32_t TrackMerger::collectTurnHits(
+    std::span<const std::uint32_t> order, std::span<const TurnCircle> circles) {
+  std::vector<TrackCandidate>& tracks = m_state.tracks;
+  const double maxScore = m_config.maxTurnHitScore;
+  // Within the score, a hit lies within these distances.
+  const double band = m_config.turnScaleDistance * std::sqrt(maxScore);
+  const double maxDz = m_config.turnScaleDz * std::sqrt(maxScore);
+  const UnusedHits unused(m_hits, m_state.used);
+  std::vector<Claim> claims;
+  for (const std::uint32_t t : order) {
+    const TrackCandidate& track = tracks[t];
+    const TransverseCircle& circle = circles[t].circle;
+    // Four hits at least: the free circle of fewer is the conformal one.
+    if (!track.alive || track.hits.size() < 4 ||
+        !(2.0 * circle.rho <= m_config.maxLoopDiameter)) {
+      continue;
+    }
+    const ConfIndex last = track.hits.back();
+    const double zLast = track.sz.z0 + track.sz.tanLambda * track.sz.lastS;
+    const double period = 2.0 * std::numbers::pi * circle.rho;
+    // The band as squared radii: most hits tested lie far off it.
+    const double inner = std::max(0.0, circle.rho - band);
+    const double inner2 = inner * inner;
+    const double outer2 = (circle.rho + band) * (circle.rho + band);
+    unused.forEachNear(circle, band, [&](ConfIndex h) {
+      const double dx = m_hits.x[h] - circle.cx;
+      const double dy = m_hits.y[h] - circle.cy;
+      const double r2 = dx * dx + dy * dy;
+      if (r2 < inner2 || r2 > outer2) {
+        return;
+      }
+      const double off = std::abs(std::sqrt(r2) - circle.rho);
+      // Along the motion from the last hit: the rest of this turn, then
+      // whole turns on.
+      const double arc =
+          circle.arc(m_hits.x[last], m_hits.y[last], m_hits.x[h], m_hits.y[h]);
+      double dz = std::numeric_limits<double>::infinity();
+      for (int k = 0; k <= kMaxTurns; ++k) {
+        const double z = zLast + track.sz.tanLambda * (arc + k * period);
+        dz = std::min(dz, std::abs(m_hits.z[h] - z));
+      }
+      if (!(dz <= maxDz)) {
+        return;
+      }
+      const double score =
+          (off / m_config.turnScaleDistance) *
+              (off / m_config.turnScaleDistance) +
+          (dz / m_config.turnScaleDz) * (dz / m_config.turnScaleDz);
+      if (score <= maxScore) {
+        claims.push_back({score, t, h});
+      }
+    });
+  }
+  std::sort(claims.begin(), claims.end(), [](const Claim& a, const Claim& b) {
+    return std::tie(a.score, a.track, a.hit) <
+           std::tie(b.score, b.track, b.hit);
+  });
+  std::uint32_t collected = 0;
+  for (const Claim& c : claims) {
+    if (m_state.used[c.hit] != 0) {
+      continue;  // taken by a better claim
+    }
+    m_state.used[c.hit] = 1;
+    tracks[c.track].turnHits.push_back(c.hit);
+    ++collected;
+  }
+  return collected;
+}
+
+}  // namespace conftrack::detail
