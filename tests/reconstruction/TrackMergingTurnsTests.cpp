@@ -447,6 +447,12 @@ TEST(TrackMerging, FurtherTurnStartingOnAForeignHitIsStillDropped) {
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+  // The turn's hits join the track, but not the foreign one that its
+  // circle left out; the turn's own hit on that layer, unused, joins
+  // instead.
+  std::vector<std::uint64_t> joined = f.ids(0, true);
+  std::sort(joined.begin(), joined.end());
+  EXPECT_EQ(joined, (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
 }
 
 TEST(TrackMerging, TurnWhoseConformalCircleFlipsIsRecognised) {

@@ -373,9 +373,11 @@ std::uint32_t TrackMerger::dropTurns() {
     for (const auto& [u, score] : turns) {
       tracks[u].alive = false;
       if (score <= m_config.maxJoinScore) {
+        // Not the end hit that the turn's circle left out: another
+        // particle's, which an extension took.
+        const std::span<const ConfIndex> hits = circles[u].hitsOf(tracks[u]);
         std::vector<ConfIndex>& joined = tracks[t].turnHits;
-        joined.insert(joined.end(), tracks[u].hits.begin(),
-                      tracks[u].hits.end());
+        joined.insert(joined.end(), hits.begin(), hits.end());
       }
       ++dropped;
     }
