@@ -64,22 +64,24 @@ std::filesystem::path locate(const std::filesystem::path& dir,
   return hasPlain ? plain : gz;
 }
 
-/// A track-hits `outlier` field: a HitUse (0, 1 or 2).
-std::uint8_t hitUse(const CsvReader& csv, std::size_t column) {
+/// A small integer field of at most `max`; `what` names the values.
+std::uint8_t smallField(const CsvReader& csv, std::size_t column,
+                        std::uint8_t max, const char* what) {
   const auto value = csv.getInteger<std::uint8_t>(column);
-  if (value > kTurnHit) {
-    csv.failField(column, "is not 0, 1 or 2");
+  if (value > max) {
+    csv.failField(column, what);
   }
   return value;
 }
 
+/// A track-hits `outlier` field: a HitUse.
+std::uint8_t hitUse(const CsvReader& csv, std::size_t column) {
+  return smallField(csv, column, kTurnHit, "is not 0, 1 or 2");
+}
+
 /// A 0/1 field as a bool.
 bool flag(const CsvReader& csv, std::size_t column) {
-  const auto value = csv.getInteger<std::uint8_t>(column);
-  if (value > 1) {
-    csv.failField(column, "is not 0 or 1");
-  }
-  return value == 1;
+  return smallField(csv, column, 1, "is not 0 or 1") == 1;
 }
 
 /// Hit id -> hit index.

@@ -40,6 +40,19 @@ using test::looperCentre;
 using test::looperHits;
 using test::moveOntoCircle;
 
+/// A 0.094 GeV looper (rho 70 mm, tanLambda 0.5) whose incoming
+/// half-turn is moved by dz in z (as scattering leaves it), both
+/// half-turns prepared as tracks.
+void prepareLooperWithTurnShiftedInZ(Fixture& f, double dz) {
+  f.hits = looperHits(f.det, 70.0, 0.5);
+  for (Hit& h : f.hits) {
+    if (h.id > 50) {
+      h.position.z() += dz;
+    }
+  }
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
+}
+
 TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
   Fixture f;
   // rho = 70 mm (0.084 GeV): reaches R = 140 mm, seven layers.
@@ -120,7 +133,8 @@ TEST(TrackMerging, UnusedHitsOnAFurtherTurnJoinTheTrack) {
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
   EXPECT_DOUBLE_EQ(f.state->tracks[0].sz.tanLambda, before.sz.tanLambda);
 
-  // None where the chain's tracks end within half a turn (TrackML).
+  // None where the chain's tracks end within half a turn (TrackML): the
+  // search stops max_track_turns from the first hit, at the apex here.
   Fixture g;
   g.hits = f.hits;
   g.cfg.maxTrackTurns = 0.5;
@@ -137,13 +151,7 @@ TEST(TrackMerging, LooselyMatchedFurtherTurnIsDroppedNotJoined) {
   // nearby circle as this one's turn (CLICdet: 61-83 % the same particle
   // at such scores), so its hits stay off the first half-turn's track.
   Fixture f;
-  f.hits = looperHits(f.det, 70.0, 0.5);
-  for (Hit& h : f.hits) {
-    if (h.id > 50) {
-      h.position.z() += 40.0;
-    }
-  }
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
+  prepareLooperWithTurnShiftedInZ(f, 40.0);
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_TRUE(f.ids(0, true).empty());
@@ -155,13 +163,7 @@ TEST(TrackMerging, ScatteredFurtherTurnIsStillRecognised) {
   // beyond the 20 mm z gate at the first half-turn's end, inside it once
   // the distance is divided by 1 + path / 1 m (path 150-270 mm).
   Fixture f;
-  f.hits = looperHits(f.det, 70.0, 0.5);
-  for (Hit& h : f.hits) {
-    if (h.id > 50) {
-      h.position.z() += 21.0;
-    }
-  }
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
+  prepareLooperWithTurnShiftedInZ(f, 21.0);
   EXPECT_EQ(f.merge(), 1u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));

@@ -15,9 +15,11 @@ namespace conftrack {
 
 Track toTrack(const FoundTrack& found) {
   Track t;
+  // The first half-turn's hits, then those of a looper's further turns.
   t.hits = found.hits;
+  t.hits.insert(t.hits.end(), found.turnHits.begin(), found.turnHits.end());
   t.outlier.assign(found.hits.size(), kFittedHit);
-  appendTurnHits(found, t);
+  t.outlier.resize(t.hits.size(), kTurnHit);
   t.findingStep = found.step;
   t.ptEstimate = found.pt;
   t.chargeEstimate = found.charge;
@@ -26,12 +28,6 @@ Track toTrack(const FoundTrack& found) {
   t.chi2Sz = found.sz.chi2;
   t.ndfSz = found.sz.ndf;
   return t;
-}
-
-void appendTurnHits(const FoundTrack& found, Track& track) {
-  track.hits.insert(track.hits.end(), found.turnHits.begin(),
-                    found.turnHits.end());
-  track.outlier.insert(track.outlier.end(), found.turnHits.size(), kTurnHit);
 }
 
 ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,

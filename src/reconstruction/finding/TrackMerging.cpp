@@ -468,11 +468,6 @@ void mergeTracks(FinderState& state, StepStats& stats) {
     outer = std::max(outer, layer.rMax);
   }
   config.maxLoopDiameter = outer;
-  // Where the chain's tracks end within less than a turn (TrackML, whose
-  // particles stop after half a turn), no track has further turns.
-  if (state.config.maxTrackTurns > 0.0 && state.config.maxTrackTurns < 1.0) {
-    config.maxTurnHitScore = 0.0;
-  }
   TrackMerger merger(state, config);
   stats.mergedTracks += merger.run();
   state.compact();

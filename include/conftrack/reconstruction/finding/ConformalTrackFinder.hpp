@@ -32,11 +32,8 @@ struct FoundTrack {
 };
 
 /// A Track with the finder's information (hits, estimates, fit quality);
-/// not yet fitted.
+/// not yet fitted. Its turnHits follow its hits, flagged kTurnHit.
 Track toTrack(const FoundTrack& found);
-
-/// Appends found.turnHits to the track's hits, flagged kTurnHit.
-void appendTurnHits(const FoundTrack& found, Track& track);
 
 /// Output of the finder for one event.
 struct FindingResult {

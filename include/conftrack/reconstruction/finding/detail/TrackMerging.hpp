@@ -128,8 +128,8 @@ class TrackMerger {
     /// (100 events, ideal layers / sensors): ACTS fake rate 3.23 / 3.47 %
     /// without, 2.65 / 2.92 % with 0.1, 2.55 / 2.83 % with 0.16; the
     /// CLICdp fake rate 0.203 / 0.255 %, 0.230 / 0.284 %, 0.249 / 0.305 %.
-    /// 0 collects none (mergeTracks: also where the chain's tracks end
-    /// within max_track_turns).
+    /// 0 collects none. No hit further along the helix than the chain's
+    /// max_track_turns from the track's first hit is collected.
     double maxTurnHitScore = 0.1;
     /// The z distance of a turn hit from the first half-turn's helix, and
     /// the mean transverse distance of its hits, are divided by
