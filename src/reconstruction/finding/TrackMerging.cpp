@@ -133,6 +133,15 @@ TrackMerger::TrackMerger(FinderState& state, Config config)
     throw std::invalid_argument(
         "TrackMerger: maxTurnHitScore must be finite and >= 0");
   }
+  if (!(m_config.maxFollowScore >= 0.0 &&
+        std::isfinite(m_config.maxFollowScore))) {
+    throw std::invalid_argument(
+        "TrackMerger: maxFollowScore must be finite and >= 0");
+  }
+  if (!(m_config.followMaxGapTurns > 0.0 && m_config.followMaxGapTurns < 1.0)) {
+    throw std::invalid_argument(
+        "TrackMerger: followMaxGapTurns must lie in (0, 1)");
+  }
   if (!(m_config.maxJoinScore >= 0.0 &&
         m_config.maxJoinScore <= m_config.maxTurnScore)) {
     throw std::invalid_argument(

@@ -385,6 +385,9 @@ std::uint32_t TrackMerger::dropTurns() {
   if (m_config.maxTurnHitScore > 0.0) {
     collectTurnHits(order, circles);
   }
+  if (m_config.maxFollowScore > 0.0) {
+    followTurns(order, circles);
+  }
   return dropped;
 }
 

@@ -1,0 +1,211 @@
+// Track merging, the turn follower: the last part of the looper rule
+// (TrackMerger::followTurns; the rule is in TrackMergingTurns.cpp, the
+// single-hit search before this one in TrackMergingTurnHits.cpp).
+//
+// A looper below about 0.1 GeV loses a per cent of its momentum at each
+// layer it crosses (CLICdet vertex barrel, a 60 MeV pion: pT 60.2 ->
+// 56.8 MeV over the six layers of its first half-turn, 50.8 MeV after
+// the second), so its circle shrinks and moves turn by turn: the hits of
+// its second half-turn lie a median 10 mm inside the first half-turn's
+// circle, and neither the turn rule's single-hit search (within 0.95 mm
+// of that circle) nor any step of the chain takes them. Such a track
+// holds less than half of its particle's hits: a fake in the ACTS double
+// matching.
+//
+// Here each looping track is followed hit by hit from its last hit: the
+// next hit is the unused hit (or one of the track's own joined turn hits,
+// which are already on it) nearest along the motion, within
+// Config::followMaxGapTurns of a turn, whose score against the circle
+// and s-z line of the track's latest kFollowFitHits hits, continued to it,
+// is at most Config::maxFollowScore (the squared transverse distance over
+// turnScaleDistance squared plus the squared z distance over turnScaleDz
+// squared). Then circle and line are fitted again to the latest hits, so
+// that the prediction follows the shrinking circle. A track is followed no
+// further than the single-hit search looks (kMaxTurns turns, the chain's
+// max_track_turns from its first hit). The tracks are followed in the
+// looper rule's order, each taking the hits it reaches first; the hits
+// join the track unfitted, as the joined turns' do.
+
+#include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
+#include "conftrack/reconstruction/finding/detail/UnusedHits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <span>
+#include <tuple>
+#include <vector>
+
+namespace conftrack::detail {
+
+namespace {
+
+/// Turns followed beyond a track's last hit (as the single-hit search).
+constexpr int kMaxTurns = 3;
+
+/// Latest hits of a followed track that predict its next hit: a few
+/// layers' worth, so that the circle is that of the particle's current
+/// momentum (TrackMerging.FollowerTakesTheHitsOfAShrinkingTurn: with 8,
+/// half of them from the first half-turn's larger circle, the prediction
+/// lags 1.4 mm behind the shrinking turn, with 4 at most 0.8 mm;
+/// CLICdet tt-bar + 30 BX: the same rates with 4, 5 and 8).
+constexpr std::size_t kFollowFitHits = 4;
+
+/// Smallest spread (standard deviation times sqrt(n)) of the arc lengths
+/// of those hits for a new tanLambda [mm]: over a shorter arc the slope
+/// is the previous one.
+constexpr double kFollowMinLever = 10.0;
+
+double square(double x) { return x * x; }
+
+/// The straight line z = zAt + tanLambda (s - sAt) of hits at arc lengths
+/// s, least squares; keeps `tanLambda` where the arcs are too short.
+struct SzLine {
+  double tanLambda = 0.0;
+  double zLast = 0.0;  ///< the line's z at the last hit
+};
+
+SzLine fitLine(const ConformalHits& hits, std::span<const ConfIndex> idx,
+               std::span<const double> s, double tanLambda) {
+  const double n = static_cast<double>(idx.size());
+  double meanS = 0.0;
+  double meanZ = 0.0;
+  for (std::size_t i = 0; i < idx.size(); ++i) {
+    meanS += s[i];
+    meanZ += hits.z[idx[i]];
+  }
+  meanS /= n;
+  meanZ /= n;
+  double sss = 0.0;
+  double ssz = 0.0;
+  for (std::size_t i = 0; i < idx.size(); ++i) {
+    sss += square(s[i] - meanS);
+    ssz += (s[i] - meanS) * (hits.z[idx[i]] - meanZ);
+  }
+  SzLine line;
+  line.tanLambda = sss > square(kFollowMinLever) ? ssz / sss : tanLambda;
+  line.zLast = meanZ + line.tanLambda * (s.back() - meanS);
+  return line;
+}
+
+}  // namespace
+
+std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
+                                       std::span<const TurnCircle> circles) {
+  std::vector<TrackCandidate>& tracks = m_state.tracks;
+  const double maxScore = m_config.maxFollowScore;
+  // Within the score, a hit lies within this distance of the circle.
+  const double band = m_config.turnScaleDistance * std::sqrt(maxScore);
+  const UnusedHits unused(m_hits, m_state.used);
+  std::vector<ConfIndex> path;
+  std::vector<ConfIndex> taken;
+  std::vector<double> s;
+  std::uint32_t collected = 0;
+  for (const std::uint32_t t : order) {
+    TrackCandidate& track = tracks[t];
+    const TransverseCircle& circle = circles[t].circle;
+    // Four hits at least: the free circle of fewer is the conformal one.
+    if (!track.alive || track.hits.size() < 4 ||
+        !(2.0 * circle.rho <= m_config.maxLoopDiameter)) {
+      continue;
+    }
+    const double period = 2.0 * std::numbers::pi * circle.rho;
+    double reach = (kMaxTurns + 1) * period;
+    if (m_state.config.maxTrackTurns > 0.0) {
+      reach = std::min(reach,
+                       m_state.config.maxTrackTurns * period - track.sz.lastS);
+    }
+    const double maxGap = m_config.followMaxGapTurns * period;
+    const std::span<const ConfIndex> own = circles[t].hitsOf(track);
+    path.assign(own.begin(), own.end());
+    taken.clear();
+    TransverseCircle local = circle;
+    SzLine line{track.sz.tanLambda,
+                track.sz.z0 + track.sz.tanLambda * track.sz.lastS};
+    double travelled = 0.0;
+    while (travelled < reach) {
+      const ConfIndex last = path.back();
+      const double xLast = m_hits.x[last];
+      const double yLast = m_hits.y[last];
+      // The next hit along the motion; ties by score, then hit index.
+      double bestArc = std::numeric_limits<double>::infinity();
+      double bestScore = 0.0;
+      ConfIndex best = 0;
+      bool bestIsNew = false;
+      const auto consider = [&](ConfIndex h, bool isNew) {
+        const double arc = local.arc(xLast, yLast, m_hits.x[h], m_hits.y[h]);
+        if (!(arc > 0.0 && arc <= maxGap && travelled + arc <= reach)) {
+          return;
+        }
+        const double off = std::abs(
+            norm2(m_hits.x[h] - local.cx, m_hits.y[h] - local.cy) - local.rho);
+        if (!(off <= band)) {
+          return;
+        }
+        const double dz = m_hits.z[h] - (line.zLast + line.tanLambda * arc);
+        const double score = square(off / m_config.turnScaleDistance) +
+                             square(dz / m_config.turnScaleDz);
+        if (score <= maxScore &&
+            std::tie(arc, score, h) < std::tie(bestArc, bestScore, best)) {
+          bestArc = arc;
+          bestScore = score;
+          best = h;
+          bestIsNew = isNew;
+        }
+      };
+      unused.forEachNear(
+          local, band, std::atan2(yLast - local.cy, xLast - local.cx),
+          maxGap / local.rho, [&](ConfIndex h) {
+            if (m_state.used[h] == 0 &&
+                std::find(taken.begin(), taken.end(), h) == taken.end()) {
+              consider(h, true);
+            }
+          });
+      // The track's joined turns are on its path already.
+      for (const ConfIndex h : track.turnHits) {
+        if (std::find(path.begin(), path.end(), h) == path.end()) {
+          consider(h, false);
+        }
+      }
+      if (!std::isfinite(bestArc)) {
+        break;
+      }
+      path.push_back(best);
+      if (bestIsNew) {
+        taken.push_back(best);
+      }
+      travelled += bestArc;
+      const std::span<const ConfIndex> latest =
+          std::span<const ConfIndex>(path).last(
+              std::min(kFollowFitHits, path.size()));
+      TransverseCircle refit;
+      if (fitCircle(m_hits, latest, refit) &&
+          2.0 * refit.rho <= m_config.maxLoopDiameter) {
+        local = refit;
+      }
+      // Arc lengths along the new circle; an overlap partner may lie a
+      // little behind the hit before it.
+      s.assign(1, 0.0);
+      for (std::size_t i = 1; i < latest.size(); ++i) {
+        double step =
+            local.arc(m_hits.x[latest[i - 1]], m_hits.y[latest[i - 1]],
+                      m_hits.x[latest[i]], m_hits.y[latest[i]]);
+        if (step > std::numbers::pi * local.rho) {
+          step -= 2.0 * std::numbers::pi * local.rho;
+        }
+        s.push_back(s.back() + step);
+      }
+      line = fitLine(m_hits, latest, s, line.tanLambda);
+    }
+    for (const ConfIndex h : taken) {
+      m_state.used[h] = 1;
+      track.turnHits.push_back(h);
+      ++collected;
+    }
+  }
+  return collected;
+}
+
+}  // namespace conftrack::detail
