@@ -8,8 +8,8 @@
 /// particles on nearby circles, beside the first half-turn or on the
 /// mirror image of a prompt looper are kept. Well-matched further turns,
 /// unused hits on the helix a whole number of turns on, and those that
-/// the turn follower reaches on a shrinking turn, join the first
-/// half-turn's track unfitted. Incoming half-turns are
+/// the turn follower reaches on a shrinking turn, also across the apex,
+/// join the first half-turn's track unfitted. Incoming half-turns are
 /// listed inner hit first, as the finder finds them (outwards), and are
 /// recognised also when a short piece's conformal circle flips.
 ///
@@ -183,15 +183,29 @@ std::vector<Hit> energyLossLooperHits(const Detector& det, double rho0,
   return hits;
 }
 
+/// The hits (ids, sorted) that join the first half-turn (hits 1-7, the
+/// only track) of `hits` when the merger runs with `cfg`.
+std::vector<std::uint64_t> joinedToFirstHalfTurn(
+    const std::vector<Hit>& hits, const detail::TrackMerger::Config& cfg) {
+  Fixture f;
+  f.hits = hits;
+  f.cfg.steps[0].chi2Cut = 1e9;  // the energy loss bends its own hits
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}});
+  detail::TrackMerger(*f.state, cfg).run();
+  std::vector<std::uint64_t> joined = f.ids(0, true);
+  std::sort(joined.begin(), joined.end());
+  return joined;
+}
+
 TEST(TrackMerging, FollowerTakesTheHitsOfAShrinkingTurn) {
   // Only the first half-turn is a track. A 0.076 GeV looper (rho 63 mm
   // at the start, whose apex lies just beyond the layer at 120 mm: 25 mm
   // of path between its two crossings of that layer) loses
   // 1 % of its momentum at each layer, as a pion of 60 MeV in the CLICdet
   // vertex detector: the incoming half-turn's hits, on no track, lie
-  // 1.5 to 6 mm inside the first half-turn's free circle, beyond the
-  // single-hit search's 0.95 mm. The follower, refitting its circle to
-  // the latest hits, takes them all.
+  // 0.4 mm (the first) and 1.9 to 4.6 mm inside the first half-turn's
+  // free circle, the latter beyond the single-hit search's 0.95 mm. The
+  // follower, refitting its circle to the latest hits, takes them all.
   Fixture f;
   f.hits = energyLossLooperHits(f.det, 63.0, 0.05, 0.01);
   ASSERT_EQ(f.hits.size(), 14u);
@@ -206,38 +220,58 @@ TEST(TrackMerging, FollowerTakesTheHitsOfAShrinkingTurn) {
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
   EXPECT_DOUBLE_EQ(f.state->tracks[0].uv.chi2, before.uv.chi2);
 
-  // Without the follower the single-hit search takes only the first
-  // (0.6 mm inside).
-  Fixture g;
-  g.hits = f.hits;
-  g.cfg.steps[0].chi2Cut = 1e9;
-  g.prepare({{1, 2, 3, 4, 5, 6, 7}});
+  // Without the follower the single-hit search takes only the first.
   detail::TrackMerger::Config cfg;
   cfg.maxFollowScore = 0.0;
-  detail::TrackMerger(*g.state, cfg).run();
-  EXPECT_EQ(g.ids(0, true), (std::vector<std::uint64_t>{57}));
+  EXPECT_EQ(joinedToFirstHalfTurn(f.hits, cfg),
+            (std::vector<std::uint64_t>{57}));
 
   // A hit 2 mm off the path (another particle's; the band is 1.5 mm at
   // the default score of 0.25) is not taken, and the follow goes on past
   // it.
-  Fixture h;
-  h.hits = f.hits;
-  for (Hit& hit : h.hits) {
+  std::vector<Hit> withForeign = f.hits;
+  for (Hit& hit : withForeign) {
     if (hit.id == 54) {
       const Vector2 xy = hit.position.head<2>();
       const Vector2 c = looperCentre(63.0);
       moveOntoCircle(hit, c, c, (xy - c).norm() + 2.0);
     }
   }
-  h.cfg.steps[0].chi2Cut = 1e9;
-  h.prepare({{1, 2, 3, 4, 5, 6, 7}});
-  h.merge();
-  joined = h.ids(0, true);
-  std::sort(joined.begin(), joined.end());
-  EXPECT_EQ(joined, (std::vector<std::uint64_t>{51, 52, 53, 55, 56, 57}));
+  EXPECT_EQ(joinedToFirstHalfTurn(withForeign, {}),
+            (std::vector<std::uint64_t>{51, 52, 53, 55, 56, 57}));
 
   cfg.followMaxGapTurns = 1.0;
-  EXPECT_THROW(detail::TrackMerger(*g.state, cfg), std::invalid_argument);
+  EXPECT_THROW(detail::TrackMerger(*f.state, cfg), std::invalid_argument);
+}
+
+TEST(TrackMerging, FollowerJumpsTheApexToTheNextTurnsSegment) {
+  // rho 72 mm at the start: 135 mm of path lie between the two crossings
+  // of the layer at 120 mm, round the apex, beyond the follower's reach
+  // from one hit to the next (0.25 turn, 107 mm), and energy loss (1 %
+  // per layer) has moved the incoming half-turn's hits 2.9-4.5 mm inside
+  // the first half-turn's circle. The incoming half-turn is found as a
+  // segment of its own (four hits on four layers, close to the track's
+  // circle and tanLambda) and followed on: all seven hits join.
+  const std::vector<Hit> hits =
+      energyLossLooperHits(test::barrelDetector(), 72.0, 0.05, 0.01);
+  ASSERT_EQ(hits.size(), 14u);
+  EXPECT_EQ(joinedToFirstHalfTurn(hits, {}),
+            (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
+
+  // Without the jump none of them joins.
+  detail::TrackMerger::Config cfg;
+  cfg.followJumps = false;
+  EXPECT_TRUE(joinedToFirstHalfTurn(hits, cfg).empty());
+
+  // Three hits beyond the gap are no segment: three points always lie on
+  // a circle.
+  std::vector<Hit> three;
+  for (const Hit& hit : hits) {
+    if (hit.id < 51 || hit.id > 54) {
+      three.push_back(hit);
+    }
+  }
+  EXPECT_TRUE(joinedToFirstHalfTurn(three, {}).empty());
 }
 
 TEST(TrackMerging, LooselyMatchedFurtherTurnIsDroppedNotJoined) {

@@ -146,6 +146,13 @@ class TrackMerger {
     /// of the track's circle (0.5 takes more hits of other particles: the
     /// CLICdp fake rate 0.230 -> 0.237 %).
     double followMaxGapTurns = 0.25;
+    /// Where the turn follower finds no hit within reach (the apex of a
+    /// looper beyond the last layer it crosses), look for the next turn as
+    /// a segment of four unused hits of its own (TrackMergingTurnFollower.cpp).
+    /// CLICdet tt-bar + 30 BX (100 events, ideal layers / sensors): ACTS
+    /// fake rate 2.46 / 2.71 % without, 2.19 / 2.45 % with; the CLICdp fake
+    /// rate 0.230 / 0.286 % and 0.234 / 0.295 %.
+    bool followJumps = true;
     /// The z distance of a turn hit from the first half-turn's helix, and
     /// the mean transverse distance of its hits, are divided by
     /// 1 + path / scale, path being the arc length from the first
