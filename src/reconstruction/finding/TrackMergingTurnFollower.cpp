@@ -38,8 +38,9 @@
 // kJumpInside inside the predicted circle and kJumpOutside outside it
 // (energy loss moves the next turn inwards), at the z the track's line
 // predicts within kJumpDz; the fourth within kJumpFourthDistance of their
-// circle. The nearest such segment along the motion joins, and the
-// follow goes on from it with its circle. Only circles below
+// circle. The first three hits of the nearest such segment along the
+// motion join, and the follow goes on from them with their circle (and
+// takes the fourth next). Only circles below
 // kJumpMaxRadius (pT 0.18 GeV in 4 T: above it energy loss hardly moves a
 // turn) jump, over at most kJumpMaxArc.
 
@@ -220,7 +221,9 @@ std::optional<Segment> findSegment(
                                     near[l].first - near[k].first <= maxGap;
              ++l) {
           const ConfIndex e = near[l].second;
-          fourth = hits.layer[e] != hits.layer[c] &&
+          fourth = hits.layer[e] != hits.layer[a] &&
+                   hits.layer[e] != hits.layer[b] &&
+                   hits.layer[e] != hits.layer[c] &&
                    on(circle, tanLambda, a, e, kJumpFourthDistance);
         }
         if (fourth) {
