@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -83,6 +84,13 @@ struct Fixture {
     for (ConfIndex h : turns ? c.turnHits : c.hits) {
       out.push_back(conformal.id[h]);
     }
+    return out;
+  }
+  /// The ids of track t's turn hits (TrackCandidate::turnHits), sorted: the
+  /// searches add them in the order they find them.
+  std::vector<std::uint64_t> turnIds(std::size_t t) const {
+    std::vector<std::uint64_t> out = ids(t, true);
+    std::sort(out.begin(), out.end());
     return out;
   }
 };

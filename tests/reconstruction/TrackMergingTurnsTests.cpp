@@ -20,6 +20,7 @@
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -128,9 +129,7 @@ TEST(TrackMerging, UnusedHitsOnAFurtherTurnJoinTheTrack) {
   const TrackCandidate before = f.state->tracks[0];
   EXPECT_EQ(f.merge(), 0u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
-  std::vector<std::uint64_t> joined = f.ids(0, true);
-  std::sort(joined.begin(), joined.end());
-  EXPECT_EQ(joined, (std::vector<std::uint64_t>{51, 52, 53, 54, 56, 57}));
+  EXPECT_EQ(f.turnIds(0), (std::vector<std::uint64_t>{51, 52, 53, 54, 56, 57}));
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
   EXPECT_DOUBLE_EQ(f.state->tracks[0].sz.tanLambda, before.sz.tanLambda);
 
@@ -161,9 +160,7 @@ std::vector<Hit> energyLossLooperHits(const Detector& det, double rho0,
   bool incoming = false;
   for (int i = 0; i < 2000000; ++i) {
     const double r0 = p.norm();
-    const double angle = -kStep / rho;
-    d = Vector2(d.x() * std::cos(angle) - d.y() * std::sin(angle),
-                d.x() * std::sin(angle) + d.y() * std::cos(angle));
+    d = Eigen::Rotation2Dd(-kStep / rho) * d;
     p += kStep * d;
     s += kStep;
     const double r1 = p.norm();
@@ -192,9 +189,7 @@ std::vector<std::uint64_t> joinedToFirstHalfTurn(
   f.cfg.steps[0].chi2Cut = 1e9;  // the energy loss bends its own hits
   f.prepare({{1, 2, 3, 4, 5, 6, 7}});
   detail::TrackMerger(*f.state, cfg).run();
-  std::vector<std::uint64_t> joined = f.ids(0, true);
-  std::sort(joined.begin(), joined.end());
-  return joined;
+  return f.turnIds(0);
 }
 
 TEST(TrackMerging, FollowerTakesTheHitsOfAShrinkingTurn) {
@@ -214,9 +209,8 @@ TEST(TrackMerging, FollowerTakesTheHitsOfAShrinkingTurn) {
   const TrackCandidate before = f.state->tracks[0];
   EXPECT_EQ(f.merge(), 0u);
   ASSERT_EQ(f.state->tracks.size(), 1u);
-  std::vector<std::uint64_t> joined = f.ids(0, true);
-  std::sort(joined.begin(), joined.end());
-  EXPECT_EQ(joined, (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
+  EXPECT_EQ(f.turnIds(0),
+            (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
   EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
   EXPECT_DOUBLE_EQ(f.state->tracks[0].uv.chi2, before.uv.chi2);
 
@@ -583,9 +577,8 @@ TEST(TrackMerging, FurtherTurnStartingOnAForeignHitIsStillDropped) {
   // The turn's hits join the track, but not the foreign one that its
   // circle left out; the turn's own hit on that layer, unused, joins
   // instead.
-  std::vector<std::uint64_t> joined = f.ids(0, true);
-  std::sort(joined.begin(), joined.end());
-  EXPECT_EQ(joined, (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
+  EXPECT_EQ(f.turnIds(0),
+            (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
 }
 
 TEST(TrackMerging, TurnWhoseConformalCircleFlipsIsRecognised) {

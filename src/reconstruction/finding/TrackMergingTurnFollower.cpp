@@ -40,9 +40,8 @@
 // predicts within kJumpDz; the fourth within kJumpFourthDistance of their
 // circle. The first three hits of the nearest such segment along the
 // motion join, and the follow goes on from them with their circle (and
-// takes the fourth next). Only circles below
-// kJumpMaxRadius (pT 0.18 GeV in 4 T: above it energy loss hardly moves a
-// turn) jump, over at most kJumpMaxArc.
+// takes the fourth next). Only tracks below kJumpMaxPt (above it energy
+// loss hardly moves a turn) jump, over at most kJumpMaxArc.
 
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 #include "conftrack/reconstruction/finding/detail/UnusedHits.hpp"
@@ -63,9 +62,6 @@ namespace conftrack::detail {
 
 namespace {
 
-/// Turns followed beyond a track's last hit (as the single-hit search).
-constexpr int kMaxTurns = 3;
-
 /// Latest hits of a followed track that predict its next hit: a few
 /// layers' worth, so that the circle is that of the particle's current
 /// momentum (TrackMerging.FollowerTakesTheHitsOfAShrinkingTurn: with 8,
@@ -74,17 +70,18 @@ constexpr int kMaxTurns = 3;
 /// CLICdet tt-bar + 30 BX: the same rates with 4, 5 and 8).
 constexpr std::size_t kFollowFitHits = 4;
 
-/// Smallest spread (standard deviation times sqrt(n)) of the arc lengths
-/// of those hits for a new tanLambda [mm]: over a shorter arc the slope
-/// is the previous one.
+/// Shortest arc spanned by those hits for a new tanLambda [mm]: over a
+/// shorter arc (an overlap pair, a double layer) the slope is the
+/// previous one.
 constexpr double kFollowMinLever = 10.0;
 
 /// The segment search (see the file comment); CLICdet tt-bar + 30 BX,
 /// 20 events, the jumps matched to the truth: 110 of 126 segments were
 /// the followed particle's with a first hit 1.9 mm (median) inside the
 /// predicted circle and a centre 5.3 mm off; the others lay 3.6 mm
-/// outside and 10 mm off, or were jumps of circles above 150 mm or of
-/// more than 400 mm, which the bounds below now refuse.
+/// outside and 10 mm off, or were jumps of circles above 150 mm (0.18
+/// GeV in CLICdet's 4 T) or of more than 400 mm, which the bounds below
+/// now refuse.
 constexpr double kJumpInside = 20.0;         ///< [mm]
 constexpr double kJumpOutside = 2.0;         ///< [mm]
 constexpr double kJumpCentre = 10.0;         ///< [mm]
@@ -94,12 +91,10 @@ constexpr double kJumpDz = 10.0;             ///< [mm], plus:
 constexpr double kJumpDzPerArc = 0.05;       ///< the tanLambda error's share
 constexpr double kJumpMidDz = 2.0;           ///< z of the 2nd, 4th hit [mm]
 constexpr double kJumpFourthDistance = 1.0;  ///< [mm]
-constexpr double kJumpMaxRadius = 150.0;     ///< [mm]
+constexpr double kJumpMaxPt = 0.18;          ///< [GeV]
 constexpr double kJumpMaxArc = 400.0;        ///< [mm]
 constexpr double kJumpMaxTurns = 0.75;       ///< of the circle
 constexpr int kMaxJumps = 6;                 ///< per track
-
-double square(double x) { return x * x; }
 
 /// A segment found across a gap: its hits in order and their circle and
 /// line.
@@ -110,44 +105,21 @@ struct Segment {
   double tanLambda = 0.0;
 };
 
-/// The straight line z = zAt + tanLambda (s - sAt) of hits at arc lengths
-/// s, least squares; keeps `tanLambda` where the arcs are too short.
+/// A followed track's s-z line at its last hit.
 struct SzLine {
   double tanLambda = 0.0;
   double zLast = 0.0;  ///< the line's z at the last hit
 };
 
-SzLine fitLine(const ConformalHits& hits, std::span<const ConfIndex> idx,
-               std::span<const double> s, double tanLambda) {
-  const double n = static_cast<double>(idx.size());
-  double meanS = 0.0;
-  double meanZ = 0.0;
-  for (std::size_t i = 0; i < idx.size(); ++i) {
-    meanS += s[i];
-    meanZ += hits.z[idx[i]];
-  }
-  meanS /= n;
-  meanZ /= n;
-  double sss = 0.0;
-  double ssz = 0.0;
-  for (std::size_t i = 0; i < idx.size(); ++i) {
-    sss += square(s[i] - meanS);
-    ssz += (s[i] - meanS) * (hits.z[idx[i]] - meanZ);
-  }
-  SzLine line;
-  line.tanLambda = sss > square(kFollowMinLever) ? ssz / sss : tanLambda;
-  line.zLast = meanZ + line.tanLambda * (s.back() - meanS);
-  return line;
-}
-
 /// The nearest segment along the motion beyond a gap after hit `last`
-/// (see the file comment): unused hits not `taken`, consecutive ones at
-/// most `maxGap` apart along the arc, the first at most `maxArc` on.
-std::optional<Segment> findSegment(
-    const ConformalHits& hits, const std::vector<std::uint8_t>& used,
-    const UnusedHits& unused, const std::vector<ConfIndex>& taken,
-    ConfIndex last, const TransverseCircle& local, const SzLine& line,
-    double maxGap, double maxArc) {
+/// (see the file comment): unused hits, consecutive ones at most `maxGap`
+/// apart along the arc, the first at most `maxArc` on.
+std::optional<Segment> findSegment(const ConformalHits& hits,
+                                   const std::vector<std::uint8_t>& used,
+                                   const UnusedHits& unused, ConfIndex last,
+                                   const TransverseCircle& local,
+                                   const SzLine& line, double maxGap,
+                                   double maxArc) {
   const double xLast = hits.x[last];
   const double yLast = hits.y[last];
   maxArc = std::min(maxArc, kJumpMaxTurns * 2.0 * std::numbers::pi * local.rho);
@@ -156,8 +128,7 @@ std::optional<Segment> findSegment(
   unused.forEachNear(
       local, kJumpInside, std::atan2(yLast - local.cy, xLast - local.cx),
       maxArc / local.rho, [&](ConfIndex h) {
-        if (used[h] != 0 ||
-            std::find(taken.begin(), taken.end(), h) != taken.end()) {
+        if (used[h] != 0) {
           return;
         }
         const double arc = local.arc(xLast, yLast, hits.x[h], hits.y[h]);
@@ -235,34 +206,72 @@ std::optional<Segment> findSegment(
   return std::nullopt;
 }
 
+/// Fits `local` and `line` to the latest kFollowFitHits hits of `path`
+/// (a circle wider than `maxLoopDiameter` is not taken; `latest` is
+/// scratch).
+void refitToLatest(const ConformalHits& hits, std::span<const ConfIndex> path,
+                   double maxLoopDiameter, HelixPath& latest,
+                   TransverseCircle& local, SzLine& line) {
+  const std::size_t n = std::min(kFollowFitHits, path.size());
+  latest.hits.assign(path.end() - static_cast<std::ptrdiff_t>(n), path.end());
+  TransverseCircle refit;
+  if (fitCircle(hits, latest.hits, refit) &&
+      2.0 * refit.rho <= maxLoopDiameter) {
+    local = refit;
+  }
+  // Arc lengths along the new circle; an overlap partner may lie a
+  // little behind the hit before it.
+  latest.s.assign(1, 0.0);
+  for (std::size_t i = 1; i < n; ++i) {
+    const ConfIndex a = latest.hits[i - 1];
+    const ConfIndex b = latest.hits[i];
+    double step = local.arc(hits.x[a], hits.y[a], hits.x[b], hits.y[b]);
+    if (step > std::numbers::pi * local.rho) {
+      step -= 2.0 * std::numbers::pi * local.rho;
+    }
+    latest.s.push_back(latest.s.back() + step);
+  }
+  // Over a shorter arc than kFollowMinLever the slope is the previous
+  // one.
+  latest.t = line.tanLambda;
+  if (latest.s.back() - latest.s.front() >= kFollowMinLever) {
+    fitPathSz(hits, latest);
+    line = SzLine{latest.t, latest.z0 + latest.t * latest.s.back()};
+  } else {
+    // The previous slope through all n hits: their mean z, carried to
+    // the last hit.
+    double zAtLast = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      zAtLast += hits.z[latest.hits[i]] +
+                 line.tanLambda * (latest.s.back() - latest.s[i]);
+    }
+    line.zLast = zAtLast / static_cast<double>(n);
+  }
+}
+
 }  // namespace
 
 std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
-                                       std::span<const TurnCircle> circles) {
+                                       std::span<const TurnCircle> circles,
+                                       const UnusedHits& unused) {
   std::vector<TrackCandidate>& tracks = m_state.tracks;
   const double maxScore = m_config.maxFollowScore;
   // Within the score, a hit lies within this distance of the circle.
   const double band = m_config.turnScaleDistance * std::sqrt(maxScore);
-  const UnusedHits unused(m_hits, m_state.used);
   std::vector<ConfIndex> path;
   std::vector<ConfIndex> taken;
-  std::vector<double> s;
+  HelixPath latest;  // the latest hits, for the s-z line
   std::uint32_t collected = 0;
   for (const std::uint32_t t : order) {
     TrackCandidate& track = tracks[t];
     const TransverseCircle& circle = circles[t].circle;
-    // Four hits at least: the free circle of fewer is the conformal one.
-    if (!track.alive || track.hits.size() < 4 ||
-        !(2.0 * circle.rho <= m_config.maxLoopDiameter)) {
+    const std::optional<double> trackReach = turnSearchReach(track, circle);
+    if (!trackReach) {
       continue;
     }
-    const double period = 2.0 * std::numbers::pi * circle.rho;
-    double reach = (kMaxTurns + 1) * period;
-    if (m_state.config.maxTrackTurns > 0.0) {
-      reach = std::min(reach,
-                       m_state.config.maxTrackTurns * period - track.sz.lastS);
-    }
-    const double maxGap = m_config.followMaxGapTurns * period;
+    const double reach = *trackReach;
+    const double maxGap =
+        m_config.followMaxGapTurns * 2.0 * std::numbers::pi * circle.rho;
     const std::span<const ConfIndex> own = circles[t].hitsOf(track);
     path.assign(own.begin(), own.end());
     taken.clear();
@@ -301,14 +310,13 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
           bestIsNew = isNew;
         }
       };
-      unused.forEachNear(
-          local, band, std::atan2(yLast - local.cy, xLast - local.cx),
-          maxGap / local.rho, [&](ConfIndex h) {
-            if (m_state.used[h] == 0 &&
-                std::find(taken.begin(), taken.end(), h) == taken.end()) {
-              consider(h, true);
-            }
-          });
+      unused.forEachNear(local, band,
+                         std::atan2(yLast - local.cy, xLast - local.cx),
+                         maxGap / local.rho, [&](ConfIndex h) {
+                           if (m_state.used[h] == 0) {
+                             consider(h, true);
+                           }
+                         });
       // The track's joined turns are on its path already.
       for (const ConfIndex h : track.turnHits) {
         if (std::find(path.begin(), path.end(), h) == path.end()) {
@@ -317,18 +325,21 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
       }
       if (!std::isfinite(bestArc)) {
         if (!m_config.followJumps || jumps == kMaxJumps ||
-            local.rho > kJumpMaxRadius) {
+            circlePt(local, m_state.bzForPt) > kJumpMaxPt) {
           break;
         }
         ++jumps;
         const std::optional<Segment> segment =
-            findSegment(m_hits, m_state.used, unused, taken, last, local, line,
-                        maxGap, std::min(kJumpMaxArc, reach - travelled));
+            findSegment(m_hits, m_state.used, unused, last, local, line, maxGap,
+                        std::min(kJumpMaxArc, reach - travelled));
         if (!segment) {
           break;
         }
-        path.insert(path.end(), segment->hits.begin(), segment->hits.end());
-        taken.insert(taken.end(), segment->hits.begin(), segment->hits.end());
+        for (const ConfIndex h : segment->hits) {
+          path.push_back(h);
+          taken.push_back(h);
+          m_state.used[h] = 1;
+        }
         travelled += segment->arc;
         local = segment->circle;
         line = SzLine{segment->tanLambda, m_hits.z[segment->hits.back()]};
@@ -337,35 +348,15 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
       path.push_back(best);
       if (bestIsNew) {
         taken.push_back(best);
+        m_state.used[best] = 1;
       }
       travelled += bestArc;
-      const std::span<const ConfIndex> latest =
-          std::span<const ConfIndex>(path).last(
-              std::min(kFollowFitHits, path.size()));
-      TransverseCircle refit;
-      if (fitCircle(m_hits, latest, refit) &&
-          2.0 * refit.rho <= m_config.maxLoopDiameter) {
-        local = refit;
-      }
-      // Arc lengths along the new circle; an overlap partner may lie a
-      // little behind the hit before it.
-      s.assign(1, 0.0);
-      for (std::size_t i = 1; i < latest.size(); ++i) {
-        double step =
-            local.arc(m_hits.x[latest[i - 1]], m_hits.y[latest[i - 1]],
-                      m_hits.x[latest[i]], m_hits.y[latest[i]]);
-        if (step > std::numbers::pi * local.rho) {
-          step -= 2.0 * std::numbers::pi * local.rho;
-        }
-        s.push_back(s.back() + step);
-      }
-      line = fitLine(m_hits, latest, s, line.tanLambda);
+      refitToLatest(m_hits, path, m_config.maxLoopDiameter, latest, local,
+                    line);
     }
-    for (const ConfIndex h : taken) {
-      m_state.used[h] = 1;
-      track.turnHits.push_back(h);
-      ++collected;
-    }
+    // (Marked as used when taken.)
+    track.turnHits.insert(track.turnHits.end(), taken.begin(), taken.end());
+    collected += static_cast<std::uint32_t>(taken.size());
   }
   return collected;
 }

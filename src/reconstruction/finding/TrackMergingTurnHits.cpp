@@ -15,7 +15,7 @@
 // of turns on joins that track: within Config::maxTurnHitScore of it, the
 // transverse distance from the track's free circle over turnScaleDistance
 // and the z distance from its helix (the s-z line continued from its last
-// hit, k = 0..kMaxTurns turns on) over turnScaleDz, squared and summed.
+// hit, k = 0..kTurnSearchTurns turns on) over turnScaleDz, squared and summed.
 // Unlike a further turn of several hits, a single hit carries no
 // direction, radius or tanLambda of its own, so the test is much tighter
 // than the turn rule's and takes no allowance for the path: it keeps the
@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <tuple>
 #include <vector>
@@ -44,11 +45,6 @@
 namespace conftrack::detail {
 
 namespace {
-
-/// Turns searched beyond a track's last hit (as the turn rule's).
-constexpr int kMaxTurns = 3;
-
-double square(double x) { return x * x; }
 
 /// A hit that a track could take, with its score.
 struct Claim {
@@ -59,38 +55,48 @@ struct Claim {
 
 }  // namespace
 
-std::uint32_t TrackMerger::collectTurnHits(
-    std::span<const std::uint32_t> order, std::span<const TurnCircle> circles) {
+std::optional<double> TrackMerger::turnSearchReach(
+    const TrackCandidate& track, const TransverseCircle& circle) const {
+  if (!track.alive || track.hits.size() < 4 ||
+      !(2.0 * circle.rho <= m_config.maxLoopDiameter)) {
+    return std::nullopt;
+  }
+  const double period = 2.0 * std::numbers::pi * circle.rho;
+  // No further along the helix than the extensions predict
+  // (FinderConfig::maxTrackTurns, from the track's first hit): where the
+  // data's particles end after half a turn (TrackML), only the rest of the
+  // track's half-turn is searched.
+  double reach = (kTurnSearchTurns + 1) * period;
+  if (m_state.config.maxTrackTurns > 0.0) {
+    reach =
+        std::min(reach, m_state.config.maxTrackTurns * period - track.sz.lastS);
+  }
+  if (!(reach > 0.0)) {
+    return std::nullopt;
+  }
+  return reach;
+}
+
+std::uint32_t TrackMerger::collectTurnHits(std::span<const std::uint32_t> order,
+                                           std::span<const TurnCircle> circles,
+                                           const UnusedHits& unused) {
   std::vector<TrackCandidate>& tracks = m_state.tracks;
   const double maxScore = m_config.maxTurnHitScore;
   // Within the score, a hit lies within these distances.
   const double band = m_config.turnScaleDistance * std::sqrt(maxScore);
   const double maxDz = m_config.turnScaleDz * std::sqrt(maxScore);
-  const UnusedHits unused(m_hits, m_state.used);
   std::vector<Claim> claims;
   for (const std::uint32_t t : order) {
     const TrackCandidate& track = tracks[t];
     const TransverseCircle& circle = circles[t].circle;
-    // Four hits at least: the free circle of fewer is the conformal one.
-    if (!track.alive || track.hits.size() < 4 ||
-        !(2.0 * circle.rho <= m_config.maxLoopDiameter)) {
+    const std::optional<double> reach = turnSearchReach(track, circle);
+    if (!reach) {
       continue;
     }
+    const double arcTo = *reach;
     const ConfIndex last = track.hits.back();
     const double zLast = track.sz.z0 + track.sz.tanLambda * track.sz.lastS;
     const double period = 2.0 * std::numbers::pi * circle.rho;
-    // No further along the helix than the extensions predict
-    // (FinderConfig::maxTrackTurns, from the track's first hit): where the
-    // data's particles end after half a turn (TrackML), only the rest of
-    // the track's half-turn is searched.
-    double arcTo = (kMaxTurns + 1) * period;
-    if (m_state.config.maxTrackTurns > 0.0) {
-      arcTo = std::min(arcTo,
-                       m_state.config.maxTrackTurns * period - track.sz.lastS);
-    }
-    if (!(arcTo > 0.0)) {
-      continue;
-    }
     // The band as squared radii: most hits tested lie far off it.
     const double inner = std::max(0.0, circle.rho - band);
     const double inner2 = inner * inner;
@@ -111,7 +117,7 @@ std::uint32_t TrackMerger::collectTurnHits(
           const double arc = circle.arc(m_hits.x[last], m_hits.y[last],
                                         m_hits.x[h], m_hits.y[h]);
           double dz = std::numeric_limits<double>::infinity();
-          for (int k = 0; k <= kMaxTurns; ++k) {
+          for (int k = 0; k <= kTurnSearchTurns; ++k) {
             const double path = arc + k * period;
             if (path > arcTo) {
               break;

@@ -41,6 +41,7 @@
 // fit) but not in the merging, whose refit is the conformal one.
 
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
+#include "conftrack/reconstruction/finding/detail/UnusedHits.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -270,7 +271,6 @@ std::optional<double> TrackMerger::furtherTurnScore(
     return std::nullopt;
   }
   const double distance = std::max(spread, meanDistance);
-  const auto square = [](double x) { return x * x; };
   const double score = square(dTanLambda / m_config.turnScaleTanLambda) +
                        square(centreDistance / m_config.turnScaleCentre) +
                        square(bestDz / m_config.turnScaleDz) +
@@ -382,11 +382,16 @@ std::uint32_t TrackMerger::dropTurns() {
       ++dropped;
     }
   }
-  if (m_config.maxTurnHitScore > 0.0) {
-    collectTurnHits(order, circles);
-  }
-  if (m_config.maxFollowScore > 0.0) {
-    followTurns(order, circles);
+  // One index of the unused hits for both searches: each checks
+  // FinderState::used for the hits the one before took.
+  if (m_config.maxTurnHitScore > 0.0 || m_config.maxFollowScore > 0.0) {
+    const UnusedHits unused(m_hits, m_state.used);
+    if (m_config.maxTurnHitScore > 0.0) {
+      collectTurnHits(order, circles, unused);
+    }
+    if (m_config.maxFollowScore > 0.0) {
+      followTurns(order, circles, unused);
+    }
   }
   return dropped;
 }

@@ -82,6 +82,9 @@ struct FinderState {
 /// slopes (a tenth of the helix step's time went into hypot).
 inline double norm2(double x, double y) { return std::sqrt(x * x + y * y); }
 
+/// x^2.
+inline double square(double x) { return x * x; }
+
 /// Angle between two 2-D directions, in [0, pi]: atan2(|a x b|, a . b)
 /// (no NaN for parallel vectors, unlike acos of the dot product).
 inline double angleBetween(double ax, double ay, double bx, double by) {

@@ -17,6 +17,8 @@
 
 namespace conftrack::detail {
 
+class UnusedHits;
+
 /// Merges compatible live tracks of a FinderState.
 class TrackMerger {
  public:
@@ -228,17 +230,31 @@ class TrackMerger {
   /// those that score at most Config::maxJoinScore to their first
   /// half-turn's track; returns how many.
   std::uint32_t dropTurns();
-  /// Adds unused hits on further turns of the tracks in `order` (live
-  /// ones whose circle can loop, with their TurnCircles by track index)
-  /// to their turnHits (Config::maxTurnHitScore); returns how many.
+  /// Turns beyond a track's last hit that the searches for hits on its
+  /// further turns look (collectTurnHits, followTurns).
+  static constexpr int kTurnSearchTurns = 3;
+  /// The arc beyond the last hit of `track` (with its free `circle`) that
+  /// those searches may cover: kTurnSearchTurns + 1 turns, and no further
+  /// from its first hit than the chain's max_track_turns lets the
+  /// extensions predict; nothing for a track that cannot loop (a circle
+  /// wider than Config::maxLoopDiameter, or fewer than four hits, whose
+  /// free circle is the conformal one) or has no arc left.
+  std::optional<double> turnSearchReach(const TrackCandidate& track,
+                                        const TransverseCircle& circle) const;
+  /// Adds unused hits (`unused`, checked against FinderState::used) on
+  /// further turns of the live tracks in `order` (with their TurnCircles
+  /// by track index) to their turnHits (Config::maxTurnHitScore); returns
+  /// how many.
   std::uint32_t collectTurnHits(std::span<const std::uint32_t> order,
-                                std::span<const TurnCircle> circles);
+                                std::span<const TurnCircle> circles,
+                                const UnusedHits& unused);
   /// Follows each looping track in `order` hit by hit beyond its last
   /// hit over unused hits and its own turn hits, refitting circle and
   /// s-z line to its latest hits at each step; adds the unused hits it
   /// takes to turnHits. Returns how many.
   std::uint32_t followTurns(std::span<const std::uint32_t> order,
-                            std::span<const TurnCircle> circles);
+                            std::span<const TurnCircle> circles,
+                            const UnusedHits& unused);
   /// True if hits of the two pieces share a sensor, or lie on one layer
   /// further apart than an overlap.
   bool conflict(std::span<const ConfIndex> a,
