@@ -97,6 +97,15 @@ FinderConfig unlimited(FinderConfig cfg) {
   return cfg;
 }
 
+/// The build step of denseChain() alone, without the final hole filling
+/// and with no guard biting: the step budget's tests.
+FinderConfig unlimitedBuildOnly() {
+  FinderConfig cfg = denseChain();
+  cfg.steps.resize(1);
+  cfg.finalHoleFilling = false;
+  return unlimited(cfg);
+}
+
 /// The tracks as lists of hit ids (independent of the hit order), sorted.
 std::vector<std::vector<std::uint64_t>> trackIds(const FindingResult& r,
                                                  const std::vector<Hit>& hits) {
@@ -198,10 +207,7 @@ TEST(Guards, StepBudgetSkipsTheLastSeedsAndBoundsTheCells) {
   // budget by at most the last seed's automaton (maxCellsPerSeed).
   const Detector det = test::barrelDetector();
   const std::vector<Hit> hits = denseJet(det, 100, 500);
-  FinderConfig cfg = denseChain();
-  cfg.steps.resize(1);
-  cfg.finalHoleFilling = false;
-  cfg = unlimited(cfg);
+  FinderConfig cfg = unlimitedBuildOnly();
   const StepStats free = ConformalTrackFinder(det, {cfg}).run(hits).steps[0];
   EXPECT_EQ(free.guard(Guard::eCellsPerHit).bites, 0u);
   cfg.maxCellsPerHit = 2;
@@ -215,6 +221,31 @@ TEST(Guards, StepBudgetSkipsTheLastSeedsAndBoundsTheCells) {
   EXPECT_LT(capped.cells, free.cells);
   // Every seed is either processed, skipped by the budget or on a track.
   EXPECT_LE(capped.seeds + budget.cut, hits.size());
+}
+
+TEST(Guards, StepBudgetReplacesTheFindersForItsStep) {
+  // A step's own max_cells_per_hit is its budget instead of the finder's
+  // (TrackML's LowPt step at sigma_z = 50 mm): with the finder's at 2 the
+  // step is cut as above, with its own large enough it is not, and it
+  // finds what it finds without any budget.
+  const Detector det = test::barrelDetector();
+  const std::vector<Hit> hits = denseJet(det, 100, 500);
+  FinderConfig cfg = unlimitedBuildOnly();
+  const FindingResult free = ConformalTrackFinder(det, {cfg}).run(hits);
+  cfg.maxCellsPerHit = 2;
+  const FindingResult capped = ConformalTrackFinder(det, {cfg}).run(hits);
+  EXPECT_EQ(capped.steps[0].guard(Guard::eCellsPerHit).bites, 1u);
+  cfg.steps[0].maxCellsPerHit = std::numeric_limits<std::uint32_t>::max();
+  const FindingResult own = ConformalTrackFinder(det, {cfg}).run(hits);
+  EXPECT_EQ(own.steps[0].guard(Guard::eCellsPerHit).bites, 0u);
+  EXPECT_EQ(own.steps[0].cells, free.steps[0].cells);
+  EXPECT_EQ(trackIds(own, hits), trackIds(free, hits));
+  // ... and a step's budget below the finder's cuts that step.
+  cfg.maxCellsPerHit = std::numeric_limits<std::uint32_t>::max();
+  cfg.steps[0].maxCellsPerHit = 2;
+  const FindingResult tighter = ConformalTrackFinder(det, {cfg}).run(hits);
+  EXPECT_EQ(tighter.steps[0].guard(Guard::eCellsPerHit).cut,
+            capped.steps[0].guard(Guard::eCellsPerHit).cut);
 }
 
 TEST(Guards, DefaultsDoNotBiteOnANormalEventAndChangeNothing) {
@@ -326,7 +357,7 @@ TEST(Guards, ChainKeysAreRead) {
       "[finder]\nmax_seed_neighbours = 7\nmax_cell_neighbours = 6\n"
       "max_leaves_per_seed = 5\nmax_window_hits = 4\n"
       "max_cached_cells = 5000\nmax_cells_per_hit = 3\n" +
-          minimalStep("Barrel") + "max_paths = 9\n",
+          minimalStep("Barrel") + "max_paths = 9\nmax_cells_per_hit = 8\n",
       "dense.toml", det);
   EXPECT_EQ(cfg.maxSeedNeighbours, 7u);
   EXPECT_EQ(cfg.maxCellNeighbours, 6u);
@@ -335,10 +366,25 @@ TEST(Guards, ChainKeysAreRead) {
   EXPECT_EQ(cfg.maxCachedCells, 5000u);
   EXPECT_EQ(cfg.maxCellsPerHit, 3u);
   EXPECT_EQ(cfg.steps[0].maxPaths, 9u);
+  EXPECT_EQ(cfg.steps[0].maxCellsPerHit, 8u);
+  EXPECT_EQ(cfg.cellsPerHitOf(cfg.steps[0]), 8u);
   const FinderConfig defaults =
       parseChain(minimalStep("Barrel"), "dense.toml", det);
   EXPECT_EQ(defaults.maxSeedNeighbours, FinderConfig{}.maxSeedNeighbours);
   EXPECT_EQ(defaults.steps[0].maxPaths, 0u);
+  // A step without its own budget has the finder's.
+  EXPECT_EQ(defaults.steps[0].maxCellsPerHit, 0u);
+  EXPECT_EQ(defaults.cellsPerHitOf(defaults.steps[0]),
+            FinderConfig{}.maxCellsPerHit);
+  try {
+    parseChain(minimalStep("Barrel") + "max_cells_per_hit = -1\n", "dense.toml",
+               det);
+    ADD_FAILURE() << "step max_cells_per_hit = -1 accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_cells_per_hit"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Guards, StepPathLimitIsASettingNotAGuard) {

@@ -85,7 +85,7 @@ void buildTracks(FinderState& state, const FindingStep& step,
   const std::size_t firstNew = state.tracks.size();
   std::vector<TrackCandidate> candidates;
   const double cellBudget =
-      double(state.config.maxCellsPerHit) * double(pool.members().size());
+      double(state.config.cellsPerHitOf(step)) * double(pool.members().size());
   for (std::size_t k = 0; k < seeds.size(); ++k) {
     const ConfIndex seed = seeds[k];
     if (state.used[seed] != 0 || onNewTrack[seed] != 0) {

@@ -141,6 +141,9 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
               // 0: only the finder's max_paths_per_seed.
               {"max_paths", static_cast<double>(s.maxPaths), one,
                Range::closed(0, kMaxCount)},
+              // 0: the finder's max_cells_per_hit.
+              {"max_cells_per_hit", static_cast<double>(s.maxCellsPerHit), one,
+               Range::closed(0, kMaxCount)},
               {"min_pt_GeV", s.minPt, GeV, Range{0.0, kInf, true, false}},
               {"max_d0_mm", s.maxD0, mm, Range::positive()},
               {"max_missed_layers", static_cast<double>(s.maxMissedLayers), one,

@@ -104,6 +104,7 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
   s.maxSeedGap = quantity(t, "max_seed_gap_mm", mm, s.maxSeedGap);
   s.maxSeedCells = count(t, "max_seed_cells", s.maxSeedCells);
   s.maxPaths = count(t, "max_paths", s.maxPaths);
+  s.maxCellsPerHit = count(t, "max_cells_per_hit", s.maxCellsPerHit);
   s.minPt = quantity(t, "min_pt_GeV", GeV, s.minPt);
   s.maxD0 = quantity(t, "max_d0_mm", mm, s.maxD0);
   s.maxMissedLayers = count(t, "max_missed_layers", s.maxMissedLayers);

@@ -35,7 +35,7 @@
 //   seed hits are taken innermost first, so the result does not depend on
 //   the input order. With firstPassMinHits, only candidates that long claim
 //   at once; the shorter wait for a second pass over the seeds.
-// - Once the triplets of the step exceed FinderConfig::maxCellsPerHit per
+// - Once the triplets of the step exceed its budget (cellsPerHitOf) per
 //   pool hit, the remaining seed hits are skipped (counted): the triplets
 //   of a seed grow with the square of the hit density.
 // This file seeds and accepts; the following is detail::HelixFollower
@@ -111,10 +111,10 @@ class HelixBuilder {
   }
 
   void run() {
-    // The step's work budget (FinderConfig::maxCellsPerHit), in triplets:
+    // The step's work budget (FinderConfig::cellsPerHitOf), in triplets:
     // their number per seed grows with the square of the hit density.
-    const double budget =
-        double(m_state.config.maxCellsPerHit) * double(m_pool.members().size());
+    const double budget = double(m_state.config.cellsPerHitOf(m_step)) *
+                          double(m_pool.members().size());
     const std::vector<ConfIndex>& members = m_pool.members();
     // With first_pass_min_hits, the first pass accepts only candidates of
     // that many hits and keeps the shorter ones (those of minHits or more)

@@ -127,6 +127,13 @@ struct FindingStep {
   /// speed setting where hits come in overlapping pairs (TrackML): not
   /// counted as a guard.
   std::uint32_t maxPaths = 0;
+  /// This step's work budget in cells (build steps) or triplets (helix
+  /// steps) per pool hit, replacing the finder's guard
+  /// FinderConfig::maxCellsPerHit for this step (0: the finder's). A step
+  /// whose seeding is looser than the others' (TrackML's LowPt: wide z
+  /// windows about the vertex regions at sigma_z = 50 mm) may need more
+  /// than the budget that bounds the others on dense events.
+  std::uint32_t maxCellsPerHit = 0;
   /// Helix steps: minimum pT of a seed triplet's circle [GeV].
   double minPt = 0.0;
   /// Helix steps: maximum transverse distance of closest approach of a
@@ -217,6 +224,11 @@ struct FinderConfig {
   /// work, so that the cost of a build grows no faster than the hits even
   /// where the combinations per seed grow with the density.
   std::uint32_t maxCellsPerHit = 100;
+  /// The work budget of `step`: its own FindingStep::maxCellsPerHit, or
+  /// else maxCellsPerHit.
+  std::uint32_t cellsPerHitOf(const FindingStep& step) const {
+    return step.maxCellsPerHit > 0 ? step.maxCellsPerHit : maxCellsPerHit;
+  }
   /// Extensions and hole filling: at most this many hits of one predicted
   /// layer crossing (its search window) are examined, those nearest (in
   /// 3-D) to the predicted crossing point.
