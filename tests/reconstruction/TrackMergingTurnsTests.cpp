@@ -183,11 +183,12 @@ std::vector<Hit> energyLossLooperHits(const Detector& det, double rho0,
 /// The hits (ids, sorted) that join the first half-turn (hits 1-7, the
 /// only track) of `hits` when the merger runs with `cfg`.
 std::vector<std::uint64_t> joinedToFirstHalfTurn(
-    const std::vector<Hit>& hits, const detail::TrackMerger::Config& cfg) {
+    const std::vector<Hit>& hits, const detail::TrackMerger::Config& cfg,
+    const std::vector<std::uint64_t>& track = {1, 2, 3, 4, 5, 6, 7}) {
   Fixture f;
   f.hits = hits;
   f.cfg.steps[0].chi2Cut = 1e9;  // the energy loss bends its own hits
-  f.prepare({{1, 2, 3, 4, 5, 6, 7}});
+  f.prepare({track});
   detail::TrackMerger(*f.state, cfg).run();
   return f.turnIds(0);
 }
@@ -266,6 +267,28 @@ TEST(TrackMerging, FollowerJumpsTheApexToTheNextTurnsSegment) {
     }
   }
   EXPECT_TRUE(joinedToFirstHalfTurn(three, {}).empty());
+}
+
+TEST(TrackMerging, JumpIsPredictedByTheWholeTurnsCircle) {
+  // The looper of the test above, with only its first four hits a track
+  // and hits 5 and 6 moved 1 mm outwards and inwards (scattering of a
+  // 60 MeV pion in a layer moves its next hits by as much). The follower
+  // takes hit 5, not hit 6, and its latest four hits (2-5) give a circle
+  // whose prediction across the apex misses the incoming half-turn; the
+  // jump is predicted by the circle of all the hits of the turn followed
+  // so far (up to kJumpFitHits, six), and the incoming half-turn joins.
+  std::vector<Hit> hits =
+      energyLossLooperHits(test::barrelDetector(), 72.0, 0.05, 0.01);
+  ASSERT_EQ(hits.size(), 14u);
+  const Vector2 centre = looperCentre(72.0);
+  for (Hit& hit : hits) {
+    const double radius = (hit.position.head<2>() - centre).norm();
+    if (hit.id == 5 || hit.id == 6) {
+      moveOntoCircle(hit, centre, centre, radius + (hit.id == 5 ? 1.0 : -1.0));
+    }
+  }
+  EXPECT_EQ(joinedToFirstHalfTurn(hits, {}, {1, 2, 3, 4}),
+            (std::vector<std::uint64_t>{5, 51, 52, 53, 54, 55, 56}));
 }
 
 TEST(TrackMerging, LooselyMatchedFurtherTurnIsDroppedNotJoined) {

@@ -38,9 +38,11 @@
 // kJumpInside inside the predicted circle and kJumpOutside outside it
 // (energy loss moves the next turn inwards), at the z the track's line
 // predicts within kJumpDz; the fourth within kJumpFourthDistance of their
-// circle. The first three hits of the nearest such segment along the
-// motion join, and the follow goes on from them with their circle (and
-// takes the fourth next). Only tracks below kJumpMaxPt (above it energy
+// circle. The predicted circle is that of the latest kJumpFitHits hits of
+// the turn followed so far, not the follow's latest kFollowFitHits. The
+// first three hits of the nearest such segment along the motion join, and
+// the follow goes on from them with their circle (and takes the fourth
+// next). Only tracks below kJumpMaxPt (above it energy
 // loss hardly moves a turn) jump, over at most kJumpMaxArc.
 
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
@@ -69,6 +71,15 @@ namespace {
 /// lags 1.4 mm behind the shrinking turn, with 4 at most 0.8 mm;
 /// CLICdet tt-bar + 30 BX: the same rates with 4, 5 and 8).
 constexpr std::size_t kFollowFitHits = 4;
+
+/// Hits of the turn being followed (since its start or the last jump)
+/// whose free circle predicts a jump across the apex. Over the apex the
+/// prediction runs 50-150 mm on, and the latest kFollowFitHits alone,
+/// mostly the two hits of each of two double layers a few millimetres
+/// apart, carry the scattering of a 50 MeV track: their circle was 30 %
+/// too small where the particle's was (CLICdet tt-bar + 30 BX, sensors:
+/// a 0.049 GeV looper, radius 41 mm, predicted on 29 mm, 35 mm with six).
+constexpr std::size_t kJumpFitHits = 6;
 
 /// Shortest arc spanned by those hits for a new tanLambda [mm]: over a
 /// shorter arc (an overlap pair, a double layer) the slope is the
@@ -262,6 +273,25 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
   std::vector<ConfIndex> taken;
   HelixPath latest;  // the latest hits, for the s-z line
   std::uint32_t collected = 0;
+  // The circle that predicts a jump: that of the turn's latest
+  // kJumpFitHits hits where there are more of them than the follow's
+  // kFollowFitHits (and it can loop), else the follow's own.
+  std::vector<ConfIndex> jumpHits;
+  const auto jumpCircle = [&](std::span<const ConfIndex> turn,
+                              const TransverseCircle& local) {
+    const std::size_t n = std::min(turn.size(), kJumpFitHits);
+    TransverseCircle fit;
+    if (n <= kFollowFitHits) {
+      return local;
+    }
+    jumpHits.assign(turn.end() - static_cast<std::ptrdiff_t>(n), turn.end());
+    if (!fitCircle(m_hits, jumpHits, fit) ||
+        !(2.0 * fit.rho <= m_config.maxLoopDiameter) ||
+        fit.orientation != local.orientation) {
+      return local;
+    }
+    return fit;
+  };
   for (const std::uint32_t t : order) {
     TrackCandidate& track = tracks[t];
     const TransverseCircle& circle = circles[t].circle;
@@ -280,6 +310,7 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
                 track.sz.z0 + track.sz.tanLambda * track.sz.lastS};
     double travelled = 0.0;
     int jumps = 0;
+    std::size_t turnStart = 0;  // in path: where the turn followed began
     while (travelled < reach) {
       const ConfIndex last = path.back();
       const double xLast = m_hits.x[last];
@@ -329,12 +360,15 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
           break;
         }
         ++jumps;
-        const std::optional<Segment> segment =
-            findSegment(m_hits, m_state.used, unused, last, local, line, maxGap,
-                        std::min(kJumpMaxArc, reach - travelled));
+        const std::optional<Segment> segment = findSegment(
+            m_hits, m_state.used, unused, last,
+            jumpCircle(std::span<const ConfIndex>(path).subspan(turnStart),
+                       local),
+            line, maxGap, std::min(kJumpMaxArc, reach - travelled));
         if (!segment) {
           break;
         }
+        turnStart = path.size();
         for (const ConfIndex h : segment->hits) {
           path.push_back(h);
           taken.push_back(h);
