@@ -42,8 +42,8 @@
 // the turn followed so far, not the follow's latest kFollowFitHits. The
 // first three hits of the nearest such segment along the motion join, and
 // the follow goes on from them with their circle (and takes the fourth
-// next). Only tracks below kJumpMaxPt (above it energy
-// loss hardly moves a turn) jump, over at most kJumpMaxArc.
+// next). Only tracks below kJumpMaxPt (above it energy loss hardly moves a
+// turn) jump, over at most kJumpMaxArc.
 
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 #include "conftrack/reconstruction/finding/detail/UnusedHits.hpp"
