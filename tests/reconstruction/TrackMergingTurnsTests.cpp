@@ -19,6 +19,7 @@
 
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
+#include "conftrack/reconstruction/finding/detail/UnusedHits.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -289,6 +290,34 @@ TEST(TrackMerging, JumpIsPredictedByTheWholeTurnsCircle) {
   }
   EXPECT_EQ(joinedToFirstHalfTurn(hits, {}, {1, 2, 3, 4}),
             (std::vector<std::uint64_t>{5, 51, 52, 53, 54, 55, 56}));
+}
+
+TEST(TrackMerging, UnusedHitsSkipsHitsTakenAfterTheIndexWasBuilt) {
+  // One index serves the single-hit search and the follower, each taking
+  // hits: a hit marked used after the index was built is not returned.
+  Fixture f;
+  f.hits = energyLossLooperHits(f.det, 63.0, 0.05, 0.01);
+  f.cfg.steps[0].chi2Cut = 1e9;  // the energy loss bends its own hits
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}});
+  std::vector<std::uint8_t>& used = f.state->used;
+  const detail::UnusedHits unused(f.conformal, used);
+  const detail::TransverseCircle everywhere{0.0, 0.0, 1000.0, 1};
+  const auto found = [&] {
+    std::vector<ConfIndex> out;
+    unused.forEachNear(everywhere, 1000.0, 0.0, 2.0 * std::numbers::pi,
+                       [&](ConfIndex h) { out.push_back(h); });
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const std::vector<ConfIndex> before = found();
+  ASSERT_EQ(before.size(), 7u);  // the incoming half-turn
+  for (const ConfIndex h : before) {
+    EXPECT_EQ(used[h], 0);
+  }
+  used[before[2]] = 1;
+  std::vector<ConfIndex> expected = before;
+  expected.erase(expected.begin() + 2);
+  EXPECT_EQ(found(), expected);
 }
 
 TEST(TrackMerging, LooselyMatchedFurtherTurnIsDroppedNotJoined) {

@@ -126,7 +126,6 @@ struct SzLine {
 /// (see the file comment): unused hits, consecutive ones at most `maxGap`
 /// apart along the arc, the first at most `maxArc` on.
 std::optional<Segment> findSegment(const ConformalHits& hits,
-                                   const std::vector<std::uint8_t>& used,
                                    const UnusedHits& unused, ConfIndex last,
                                    const TransverseCircle& local,
                                    const SzLine& line, double maxGap,
@@ -139,9 +138,6 @@ std::optional<Segment> findSegment(const ConformalHits& hits,
   unused.forEachNear(
       local, kJumpInside, std::atan2(yLast - local.cy, xLast - local.cx),
       maxArc / local.rho, [&](ConfIndex h) {
-        if (used[h] != 0) {
-          return;
-        }
         const double arc = local.arc(xLast, yLast, hits.x[h], hits.y[h]);
         if (!(arc > 0.0 && arc <= maxArc)) {
           return;
@@ -217,19 +213,28 @@ std::optional<Segment> findSegment(const ConformalHits& hits,
   return std::nullopt;
 }
 
+/// Puts the latest `n` hits of `path` (at most all) into `latest` and
+/// replaces `circle` by their free circle unless the fit fails or is wider
+/// than `maxLoopDiameter` (a track that cannot loop).
+void fitLatest(const ConformalHits& hits, std::span<const ConfIndex> path,
+               std::size_t n, double maxLoopDiameter,
+               std::vector<ConfIndex>& latest, TransverseCircle& circle) {
+  n = std::min(n, path.size());
+  latest.assign(path.end() - static_cast<std::ptrdiff_t>(n), path.end());
+  TransverseCircle refit;
+  if (fitCircle(hits, latest, refit) && 2.0 * refit.rho <= maxLoopDiameter) {
+    circle = refit;
+  }
+}
+
 /// Fits `local` and `line` to the latest kFollowFitHits hits of `path`
 /// (a circle wider than `maxLoopDiameter` is not taken; `latest` is
 /// scratch).
 void refitToLatest(const ConformalHits& hits, std::span<const ConfIndex> path,
                    double maxLoopDiameter, HelixPath& latest,
                    TransverseCircle& local, SzLine& line) {
-  const std::size_t n = std::min(kFollowFitHits, path.size());
-  latest.hits.assign(path.end() - static_cast<std::ptrdiff_t>(n), path.end());
-  TransverseCircle refit;
-  if (fitCircle(hits, latest.hits, refit) &&
-      2.0 * refit.rho <= maxLoopDiameter) {
-    local = refit;
-  }
+  fitLatest(hits, path, kFollowFitHits, maxLoopDiameter, latest.hits, local);
+  const std::size_t n = latest.hits.size();
   // Arc lengths along the new circle; an overlap partner may lie a
   // little behind the hit before it.
   latest.s.assign(1, 0.0);
@@ -275,22 +280,15 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
   std::uint32_t collected = 0;
   // The circle that predicts a jump: that of the turn's latest
   // kJumpFitHits hits where there are more of them than the follow's
-  // kFollowFitHits (and it can loop), else the follow's own.
+  // kFollowFitHits, else the follow's own.
   std::vector<ConfIndex> jumpHits;
   const auto jumpCircle = [&](std::span<const ConfIndex> turn,
-                              const TransverseCircle& local) {
-    const std::size_t n = std::min(turn.size(), kJumpFitHits);
-    TransverseCircle fit;
-    if (n <= kFollowFitHits) {
-      return local;
+                              TransverseCircle circle) {
+    if (turn.size() > kFollowFitHits) {
+      fitLatest(m_hits, turn, kJumpFitHits, m_config.maxLoopDiameter, jumpHits,
+                circle);
     }
-    jumpHits.assign(turn.end() - static_cast<std::ptrdiff_t>(n), turn.end());
-    if (!fitCircle(m_hits, jumpHits, fit) ||
-        !(2.0 * fit.rho <= m_config.maxLoopDiameter) ||
-        fit.orientation != local.orientation) {
-      return local;
-    }
-    return fit;
+    return circle;
   };
   for (const std::uint32_t t : order) {
     TrackCandidate& track = tracks[t];
@@ -341,13 +339,9 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
           bestIsNew = isNew;
         }
       };
-      unused.forEachNear(local, band,
-                         std::atan2(yLast - local.cy, xLast - local.cx),
-                         maxGap / local.rho, [&](ConfIndex h) {
-                           if (m_state.used[h] == 0) {
-                             consider(h, true);
-                           }
-                         });
+      unused.forEachNear(
+          local, band, std::atan2(yLast - local.cy, xLast - local.cx),
+          maxGap / local.rho, [&](ConfIndex h) { consider(h, true); });
       // The track's joined turns are on its path already.
       for (const ConfIndex h : track.turnHits) {
         if (std::find(path.begin(), path.end(), h) == path.end()) {
@@ -361,7 +355,7 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
         }
         ++jumps;
         const std::optional<Segment> segment = findSegment(
-            m_hits, m_state.used, unused, last,
+            m_hits, unused, last,
             jumpCircle(std::span<const ConfIndex>(path).subspan(turnStart),
                        local),
             line, maxGap, std::min(kJumpMaxArc, reach - travelled));

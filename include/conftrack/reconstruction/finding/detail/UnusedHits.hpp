@@ -27,12 +27,14 @@ inline constexpr double kUnusedStripWidth = 20.0;
 inline constexpr std::size_t kUnusedMaxStrips = 1024;
 
 /// The unused hits in strips of x, each sorted by y: the hits in a box
-/// are those of a few strips, each a binary search.
+/// are those of a few strips, each a binary search. The index is built
+/// once; hits marked used afterwards (`used`, held by reference) are
+/// skipped, so several searches can share it while each takes hits.
 class UnusedHits {
  public:
-  /// The hits h with used[h] == 0.
+  /// The hits h with used[h] == 0; `used` must outlive the index.
   UnusedHits(const ConformalHits& hits, const std::vector<std::uint8_t>& used)
-      : m_hits(&hits) {
+      : m_used(&used) {
     double xMax = -std::numeric_limits<double>::infinity();
     for (ConfIndex h = 0; h < hits.size(); ++h) {
       if (used[h] == 0) {
@@ -74,10 +76,10 @@ class UnusedHits {
     }
   }
 
-  /// Calls f(h) for each hit in the box of the arc of circle `c` that
-  /// starts at angle `start` round its centre and runs `sweep` radians
-  /// along the motion (the whole circle from 2 pi on), widened by `band`:
-  /// a superset of the hits within `band` of the arc.
+  /// Calls f(h) for each hit still unused in the box of the arc of circle
+  /// `c` that starts at angle `start` round its centre and runs `sweep`
+  /// radians along the motion (the whole circle from 2 pi on), widened by
+  /// `band`: a superset of the unused hits within `band` of the arc.
   template <class F>
   void forEachNear(const TransverseCircle& c, double band, double start,
                    double sweep, F&& f) const {
@@ -125,7 +127,10 @@ class UnusedHits {
       const auto end = m_y.begin() + m_start[k + 1];
       for (auto it = std::lower_bound(begin, end, yLo - band);
            it != end && *it <= yHi + band; ++it) {
-        f(m_byY[static_cast<std::size_t>(it - m_y.begin())]);
+        const ConfIndex h = m_byY[static_cast<std::size_t>(it - m_y.begin())];
+        if ((*m_used)[h] == 0) {
+          f(h);
+        }
       }
     }
   }
@@ -135,7 +140,7 @@ class UnusedHits {
     return static_cast<std::size_t>((x - m_x0) / m_width);
   }
 
-  const ConformalHits* m_hits;
+  const std::vector<std::uint8_t>* m_used;
   double m_x0 = std::numeric_limits<double>::infinity();
   double m_width = kUnusedStripWidth;
   std::vector<std::uint32_t> m_start;  ///< first hit of each strip
