@@ -114,6 +114,38 @@ TEST(HelixStep, KeysAreValidated) {
                 .find("max_seed_gap_mm"),
             std::string::npos);
   EXPECT_EQ(ok.steps[0].maxSeedGap, 0.0);
+  // inward_collections: a helix step's, known subdetectors, once each.
+  EXPECT_TRUE(ok.steps[0].inwardCollections.empty());
+  const FinderConfig inward = parseChain(
+      helixStep("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                "inward_collections = [\"VertexBarrel\", \"VertexEndcap\"]\n"),
+      "chain.toml", clicdet());
+  EXPECT_EQ(
+      inward.steps[0].inwardCollections,
+      (std::vector<std::uint16_t>{*clicdet().findSubdetector("VertexBarrel"),
+                                  *clicdet().findSubdetector("VertexEndcap")}));
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "inward_collections = []\n")
+                .find("inward_collections"),
+            std::string::npos);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "inward_collections = [\"Calorimeter\"]\n")
+                .find("inward_collections"),
+            std::string::npos);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "inward_collections = [\"VertexBarrel\", "
+                       "\"VertexBarrel\"]\n")
+                .find("listed twice"),
+            std::string::npos);
+  std::string notHelix;
+  try {
+    parseChain(minimalStep("VertexBarrel") +
+                   "inward_collections = [\"VertexEndcap\"]\n",
+               "chain.toml", clicdet());
+  } catch (const InputError& e) {
+    notHelix = e.what();
+  }
+  EXPECT_NE(notHelix.find("only a helix step"), std::string::npos);
   // Defaults of a step without the action: no pT floor, no d0 cut.
   const FinderConfig plain =
       parseChain(minimalStep("VertexBarrel"), "chain.toml", clicdet());

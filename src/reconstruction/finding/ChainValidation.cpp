@@ -95,6 +95,25 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
                          " is not among the step's collections");
     }
   }
+  for (std::size_t i = 0; i < s.inwardCollections.size(); ++i) {
+    const std::uint16_t sub = s.inwardCollections[i];
+    if (sub >= nSub) {
+      return problem("inward_collections",
+                     "subdetector index " + std::to_string(sub) +
+                         " is not one of the " + std::to_string(nSub) +
+                         " subdetectors of detector '" + detector.name() + "'");
+    }
+    if (std::find(s.inwardCollections.begin(), s.inwardCollections.begin() + i,
+                  sub) != s.inwardCollections.begin() + i) {
+      return problem(
+          "inward_collections",
+          "subdetector " + subdetectorName(detector, sub) + " listed twice");
+    }
+  }
+  if (!s.inwardCollections.empty() && !s.helix) {
+    return problem("inward_collections",
+                   "only a helix step follows its tracks inwards");
+  }
   if (index == 0 && s.collections.empty()) {
     return problem("collections",
                    "the first step must name its collections (an empty list "

@@ -72,6 +72,13 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
              "must not be empty (leave it out to seed from every hit)");
     }
   }
+  if (t.has("inward_collections")) {
+    s.inwardCollections = subdetectors(t, "inward_collections", detector);
+    if (s.inwardCollections.empty()) {
+      t.fail("inward_collections",
+             "must not be empty (leave it out for no inward following)");
+    }
+  }
   std::vector<std::string> actions = t.getStringArray("actions");
   for (const std::string& a : actions) {
     bool* flag = a == "build"    ? &s.build

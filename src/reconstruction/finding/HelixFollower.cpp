@@ -4,6 +4,7 @@
 #include "conftrack/reconstruction/finding/detail/HelixFollower.hpp"
 
 #include "conftrack/geometry/Helix.hpp"
+#include "conftrack/geometry/MagneticField.hpp"
 #include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
 
 #include <algorithm>
@@ -86,6 +87,34 @@ void HelixFollower::follow(HelixPath& p, const Limits& limits) {
   }
 }
 
+void HelixFollower::followInward(HelixPath& p, const Limits& limits) {
+  // The path reversed: its hits from the last to the first, arc lengths
+  // from the last. fitCircle takes the orientation from the hits' order,
+  // so follow() moves against the particle's motion.
+  const std::size_t before = p.hits.size();
+  m_trial.hits.assign(p.hits.rbegin(), p.hits.rend());
+  m_trial.s.clear();
+  const double sEnd = p.s.back();
+  for (auto it = p.s.rbegin(); it != p.s.rend(); ++it) {
+    m_trial.s.push_back(sEnd - *it);
+  }
+  m_trial.chi2 = p.chi2;
+  fitPathSz(m_hits, m_trial);
+  HelixPath reversed = std::move(m_trial);
+  follow(reversed, limits);
+  if (reversed.hits.size() == before) {
+    return;
+  }
+  p.hits.assign(reversed.hits.rbegin(), reversed.hits.rend());
+  p.s.clear();
+  const double sFirst = reversed.s.back();
+  for (auto it = reversed.s.rbegin(); it != reversed.s.rend(); ++it) {
+    p.s.push_back(sFirst - *it);
+  }
+  p.chi2 = reversed.chi2;
+  fitPathSz(m_hits, p);
+}
+
 ConfIndex HelixFollower::choose(const HelixPath& p) {
   std::sort(m_layerHits.begin(), m_layerHits.end(),
             [](const LayerHit& a, const LayerHit& b) {
@@ -145,43 +174,54 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     fitPathSz(m_hits, p);
   }
   sz = filterPathSz(m_hits, p, m_layers, m_step.minPt, ptOf(c));
-  predict(last, p.s.back(), sz.z - sz.t * p.s.back(), sz.t, c, m_crossings);
+  // Predictions and residuals follow the circle of the stretch ahead.
+  const TransverseCircle cp = nextStretch(p, c, sz);
+  const double pt = ptOf(c);
   const double secL = norm2(1.0, sz.t);
-  const double ms0 = theta0(m_hits.layer[last], ptOf(c), sz.t);
-  // Lever arm of the fitted circle: the path's length.
-  const double lever = std::max(p.s[n - 1], 1.0);
-  const double sigmaLast =
-      std::sqrt(m_hits.varT[last]) * m_hits.radius[last] * m_hits.radius[last];
+  const double ms0 = theta0(m_hits.layer[last], pt, sz.t);
+  // The prediction's transverse error: every hit's resolution and every
+  // crossed layer's scattering (theta0 / cos(lambda) in azimuth), once per
+  // layer crossing (the second hit of an overlap adds no kink).
+  m_errorS.assign(p.s.begin(), p.s.end());
+  m_errorSigma.resize(n);
+  m_errorKink.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const ConfIndex h = p.hits[k];
+    m_errorSigma[k] = transverseSigma(h);
+    const bool sameCrossing =
+        k > 0 && m_hits.layer[h] == m_hits.layer[p.hits[k - 1]];
+    m_errorKink[k] =
+        sameCrossing ? 0.0 : theta0(m_hits.layer[h], pt, sz.t) * secL;
+  }
+  const bool modelled = m_error.reset(m_errorS, m_errorSigma, m_errorKink);
+  // Without a parabola (fewer than three distinct arc lengths): the last
+  // hit's error grown with the extrapolation, and the last layer's kink.
+  const double lever = std::max(p.s[n - 1] - p.s[0], 1.0);
+  const double sigmaLast = transverseSigma(last);
   std::uint32_t missed = 0;
   m_layerHits.clear();
   for (const Crossing& x : m_crossings) {
-    // Scattering in the last layer turns the direction by theta0 / cos
-    // (lambda) in azimuth and theta0 / cos(lambda)^2 in dz/ds; the
-    // fitted direction carries about as much again from the layers
-    // before (factor 2 in the variances).
-    const double ms = std::numbers::sqrt2 * ms0 * x.ds * secL;
     const double ratio = x.ds / lever;
-    // The hit errors' share of the fitted circle, and the scattering's:
-    // a kink of theta0 inside a path of length `lever` moves its fitted
-    // curvature by about 2 sqrt(2) theta0 / lever, which grows with the
-    // square of the extrapolation (a vertex-detector seed of 30 mm at
-    // 0.3 GeV misses the next layer, 70 mm on, by 0.5 mm that way).
-    const double curvature =
-        std::numbers::sqrt2 * ms0 * secL * x.ds * x.ds / lever;
-    const double extrap =
-        std::hypot(sigmaLast * (1.0 + ratio * ratio), curvature);
+    const double growth = sigmaLast * (1.0 + ratio * ratio);
+    const double kinkLast = ms0 * secL * x.ds;
+    // The least-squares parabola can predict better than the last hit's
+    // own error only with many hits; that floor keeps the former estimate.
+    const double transverse =
+        modelled ? std::max(growth * growth, m_error.resolutionVariance(x.ds)) +
+                       m_error.scatteringVariance(x.ds)
+                 : growth * growth + kinkLast * kinkLast;
     // The filtered z's own error, and the scattering in the last layer
     // (its slope's variance holds that layer's only once it is left).
     const double msLast = ms0 * secL * secL * x.ds;
     const double extrapZ = std::sqrt(sz.varAt(x.ds) + msLast * msLast);
     const SensitiveLayer& l = m_layers[x.layer];
-    const double varPhi = l.sigmaU * l.sigmaU + ms * ms + extrap * extrap;
+    double varPhi = l.sigmaU * l.sigmaU + transverse;
     double varV = l.sigmaV * l.sigmaV + extrapZ * extrapZ;
     if (l.isDisk()) {
       // On a disk the transverse errors of the prediction move the
       // crossing radially as much as in azimuth, and an error in the
       // slope moves it along the track.
-      varV = l.sigmaV * l.sigmaV + ms * ms + extrap * extrap +
+      varV = l.sigmaV * l.sigmaV + transverse +
              extrapZ * extrapZ / std::max(sz.t * sz.t, 0.01);
     }
     const double rCross = norm2(x.x, x.y);
@@ -190,11 +230,18 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     // is displaced along the layer by the gap over the cosine of its
     // crossing angle. The window covers that; the residuals below are
     // taken at the hit itself.
-    const double tx = -c.orientation * (x.y - c.cy) / c.rho;
-    const double ty = c.orientation * (x.x - c.cx) / c.rho;
+    const double tx = -cp.orientation * (x.y - cp.cy) / cp.rho;
+    const double ty = cp.orientation * (x.x - cp.cx) / cp.rho;
     const double radialT =
         std::abs(tx * x.x + ty * x.y) / std::max(rCross, 1e-9);
     const double alongT = std::sqrt(std::max(0.0, 1.0 - radialT * radialT));
+    if (l.isDisk()) {
+      // A disk's radial resolution (a strip's length: 0.35 mm and 3 mm in
+      // TrackML's strip disks) lies across a track that runs alongT across
+      // the radius: a 0.3 GeV track reaches the strip disks at 30-60
+      // degrees to the radius.
+      varPhi += l.sigmaV * l.sigmaV * alongT * alongT;
+    }
     const double normalT = l.isDisk() ? std::abs(sz.t) : radialT;
     const double ds = m_state.config.overlapMaxGap / std::max(normalT, 1e-3);
     const double maxArc = m_state.config.overlapMaxArc;
@@ -215,11 +262,12 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
       }
       // Distance from the circle across the track, and z against the
       // helix at the hit's own arc length.
-      const double rPhi = norm2(m_hits.x[h] - c.cx, m_hits.y[h] - c.cy) - c.rho;
+      const double rPhi =
+          norm2(m_hits.x[h] - cp.cx, m_hits.y[h] - cp.cy) - cp.rho;
       double arc =
-          c.arc(m_hits.x[last], m_hits.y[last], m_hits.x[h], m_hits.y[h]);
-      if (arc > std::numbers::pi * c.rho) {
-        arc -= 2.0 * std::numbers::pi * c.rho;  // just behind the last hit
+          cp.arc(m_hits.x[last], m_hits.y[last], m_hits.x[h], m_hits.y[h]);
+      if (arc > std::numbers::pi * cp.rho) {
+        arc -= 2.0 * std::numbers::pi * cp.rho;  // just behind the last hit
       }
       const double dz = m_hits.z[h] - sz.zAt(arc);
       // On a disk v is radial: a z residual dz is a shift dz / t along
@@ -245,6 +293,56 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     }
   }
   return false;
+}
+
+TransverseCircle HelixFollower::nextStretch(const HelixPath& p,
+                                            const TransverseCircle& c,
+                                            const SzState& sz) {
+  const ConfIndex last = p.hits.back();
+  const double z0 = sz.z - sz.t * p.s.back();
+  predict(last, p.s.back(), z0, sz.t, c, m_crossings);
+  const MagneticField& field = m_state.detector.field();
+  if (field.isUniform()) {
+    return c;
+  }
+  // The field's bending (MagneticField::bendingComponent) along the
+  // circle's direction at a point.
+  auto bendingAt = [&](double x, double y, double z) {
+    const double rx = x - c.cx;
+    const double ry = y - c.cy;
+    const double rn = std::max(norm2(rx, ry), 1e-9);
+    const Vector3 direction(-c.orientation * ry / rn, c.orientation * rx / rn,
+                            sz.t);
+    return std::abs(
+        MagneticField::bendingComponent(field.at(Vector3(x, y, z)), direction));
+  };
+  double fitted = 0.0;
+  for (ConfIndex h : p.hits) {
+    fitted += bendingAt(m_hits.x[h], m_hits.y[h], m_hits.z[h]);
+  }
+  fitted /= static_cast<double>(p.hits.size());
+  const double atLast =
+      bendingAt(m_hits.x[last], m_hits.y[last], m_hits.z[last]);
+  // The circle through the last hit's point of c with its direction there
+  // and the radius of the fitted curvature in the bending b.
+  auto rescaled = [&](double b) {
+    const double k = fitted / std::max(b, 1e-3 * fitted);
+    TransverseCircle out = c;
+    out.cx = m_hits.x[last] + (c.cx - m_hits.x[last]) * k;
+    out.cy = m_hits.y[last] + (c.cy - m_hits.y[last]) * k;
+    out.rho = c.rho * k;
+    return out;
+  };
+  TransverseCircle out = rescaled(atLast);
+  predict(last, p.s.back(), z0, sz.t, out, m_crossings);
+  for (const Crossing& x : m_crossings) {
+    if (x.inside) {
+      out = rescaled(0.5 * (atLast + bendingAt(x.x, x.y, x.z)));
+      predict(last, p.s.back(), z0, sz.t, out, m_crossings);
+      break;
+    }
+  }
+  return out;
 }
 
 bool HelixFollower::skipsLayer(const HelixPath& p, const TransverseCircle& c) {

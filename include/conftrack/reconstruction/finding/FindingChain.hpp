@@ -48,6 +48,12 @@ struct FindingStep {
   /// Subdetector indices whose hits may seed a build (a subset of the
   /// pool's); empty: every pool hit seeds (as upstream).
   std::vector<std::uint16_t> seedCollections;
+  /// Helix steps: subdetector indices whose unused hits an accepted track
+  /// may take when it is followed inwards, against its motion, from its
+  /// first hit (besides the pool's own); empty: no inward following. A
+  /// step seeded in an outer subdetector reaches back into the inner one
+  /// that its seeds leave out (docs/algorithm.md 3.8).
+  std::vector<std::uint16_t> inwardCollections;
   /// Actions, run in this order when set.
   bool build = false;   ///< BuildNewTracks
   bool extend = false;  ///< ExtendTracks

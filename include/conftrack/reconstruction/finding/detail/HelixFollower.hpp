@@ -11,6 +11,7 @@
 #include "conftrack/reconstruction/finding/HitPool.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 #include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
+#include "conftrack/reconstruction/finding/detail/HelixPredictionError.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -23,9 +24,13 @@ namespace conftrack::detail {
 /// buffers), one per step run.
 ///
 /// At each predicted crossing of a pool layer (the helix of the circle
-/// fitted to all hits, z from the (s, z) filter), the compatible unused
-/// hit of lowest chi2 is taken with its overlap partners on other sensors
-/// of the layer. Residuals are taken at the hit, since a layer's sensors
+/// fitted to all hits, rescaled to the field ahead (nextStretch), z from
+/// the (s, z) filter), the compatible unused hit of lowest chi2 is taken
+/// with its overlap partners on other sensors of the layer; the chi2 has
+/// the layer's resolution (on a disk also its radial one, across the
+/// track as far as the track runs across the radius), the prediction's
+/// transverse error (HelixPredictionError) and the filter's z error.
+/// Residuals are taken at the hit, since a layer's sensors
 /// lie up to FinderConfig::overlapMaxGap from its nominal surface. The
 /// path ends at the first crossing past follow()'s maxMissedLayers
 /// crossings without a hit (crossings of layers it already holds do not
@@ -49,6 +54,12 @@ class HelixFollower {
   /// Extends the path outwards hit by hit (see the class comment), ending
   /// it past `limits.maxMissedLayers` crossings without a hit.
   void follow(HelixPath& p, const Limits& limits);
+  /// Follows the path from its first hit against the motion, towards the
+  /// particle's production point, like follow() (the same limits), and
+  /// puts the hits found before its first. A step seeded in an outer
+  /// subdetector takes the particle's hits in the inner one this way
+  /// (FindingStep::inwardCollections).
+  void followInward(HelixPath& p, const Limits& limits);
 
   /// Adds the overlap partners of the path's seed hits (its first three),
   /// which follow() does not see: on other sensors of a seed hit's layer,
@@ -104,6 +115,15 @@ class HelixFollower {
   /// the best by its chi2 plus that of the best hit one crossing further.
   ConfIndex choose(const HelixPath& p);
 
+  /// In a field that changes along the track (TrackML's solenoid): the
+  /// circle of the path's next stretch. The circle c fitted to the hits
+  /// has the mean bending of the field along them; it is rescaled about
+  /// the last hit by that mean over the bending half-way to the next layer
+  /// crossing inside its layer (predicted with the bending at the last
+  /// hit first). Returns c in a uniform field.
+  TransverseCircle nextStretch(const HelixPath& p, const TransverseCircle& c,
+                               const SzState& sz);
+
   /// Predicted crossings of the pool's layers after hit `from` (arc length
   /// sFrom on the line z = z0 + t s), within the outgoing half-turn,
   /// nearest first. `inside` is set for crossings at least kHelixEdgeMargin
@@ -154,6 +174,12 @@ class HelixFollower {
   /// Scratch of the look-ahead (choose).
   std::vector<LayerHit> m_candidates;
   HelixPath m_trial;
+  /// The transverse error of the current prediction, and its inputs per
+  /// path hit (arc length, transverse error, scattering angle).
+  HelixPredictionError m_error;
+  std::vector<double> m_errorS;
+  std::vector<double> m_errorSigma;
+  std::vector<double> m_errorKink;
   /// Per detector layer: the pool's layers an extension looks at.
   std::vector<std::vector<std::uint32_t>> m_reach;
 };
