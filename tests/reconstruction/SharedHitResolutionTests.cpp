@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <memory>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "SyntheticHits.hpp"
@@ -31,7 +32,7 @@ struct Fixture {
   ConformalHits conformal;
   std::unique_ptr<detail::FinderState> state;
 
-  Fixture() {
+  explicit Fixture(FinderConfig config = {}) : cfg(std::move(config)) {
     for (int k = 0; k < 3; ++k) {
       const std::vector<Hit> h = test::helixHits(
           det, 3000.0, 0.4 + 0.5 * k, 1, 0.3, 1 + 100 * std::uint64_t(k));
@@ -57,8 +58,8 @@ struct Fixture {
     }
     state->tracks.push_back(t);
   }
-  std::uint32_t resolve(std::uint32_t minUnique) {
-    return detail::SharedHitResolution({2, minUnique}).run(*state);
+  std::uint32_t resolve(std::uint32_t minUnique, bool trim = false) {
+    return detail::SharedHitResolution({2, minUnique, trim}).run(*state);
   }
   bool used(std::uint64_t id) const { return state->used[index(id)] != 0; }
   std::vector<std::size_t> sizes() const {
@@ -120,6 +121,37 @@ TEST(SharedHitResolution, CloneOfABetterTrackIsDropped) {
   EXPECT_EQ(g.sizes(), (std::vector<std::size_t>{7, 8, 8}));
 }
 
+TEST(SharedHitResolution, TrimmedTrackKeepsItsOwnHits) {
+  // A track that took two hits of a better one (a clone by the rule) but
+  // has five of its own keeps those, refitted, with trimSharedHits and a
+  // requirement of five; one with four of its own is dropped all the same,
+  // and without the option both are.
+  for (bool trim : {false, true}) {
+    Fixture f(test::oneBuildStep());
+    f.add({1, 2, 3, 4, 5, 6, 7, 8});
+    f.add({101, 102, 103, 104, 105, 7, 8});
+    f.add({201, 202, 203, 204, 3, 4});
+    EXPECT_EQ(f.resolve(5, trim), trim ? 1u : 2u);
+    EXPECT_EQ(f.sizes(), trim ? (std::vector<std::size_t>{5, 8})
+                              : (std::vector<std::size_t>{8}));
+    EXPECT_TRUE(f.used(7));  // on the better track
+    EXPECT_EQ(f.used(101), trim);
+    EXPECT_FALSE(f.used(201));
+    // No hit on two tracks; the trimmed track is refitted.
+    std::vector<ConfIndex> all;
+    for (const TrackCandidate& t : f.state->tracks) {
+      if (t.hits.size() == 5) {
+        EXPECT_TRUE(t.uv.valid);
+        EXPECT_TRUE(t.sz.valid);
+        EXPECT_GT(t.pt, 0.0);
+      }
+      all.insert(all.end(), t.hits.begin(), t.hits.end());
+    }
+    std::sort(all.begin(), all.end());
+    EXPECT_EQ(std::adjacent_find(all.begin(), all.end()), all.end());
+  }
+}
+
 TEST(SharedHitResolution, OrderOfTheTracksDoesNotMatter) {
   // The longer of two tracks sharing a hit is kept, whichever comes
   // first.
@@ -147,6 +179,14 @@ TEST(SharedHitResolution, ConfigIsValidated) {
   const auto p = findChainProblem(cfg, det);
   ASSERT_TRUE(p.has_value());
   EXPECT_EQ(p->key, "finder.final_min_unique_hits");
+  // Trimming needs the requirement it keeps to.
+  cfg.finalMinUniqueHits = 0;
+  cfg.finalTrimSharedHits = true;
+  const auto q = findChainProblem(cfg, det);
+  ASSERT_TRUE(q.has_value());
+  EXPECT_EQ(q->key, "finder.final_trim_shared_hits");
+  cfg.finalMinUniqueHits = 6;
+  EXPECT_FALSE(findChainProblem(cfg, det).has_value());
 }
 
 }  // namespace

@@ -261,6 +261,11 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
           key)) {
     return ChainProblem{std::nullopt, "finder." + key, *what};
   }
+  if (c.finalTrimSharedHits && c.finalMinUniqueHits == 0) {
+    return ChainProblem{std::nullopt, "finder.final_trim_shared_hits",
+                        "needs final_min_unique_hits (the hits a trimmed "
+                        "track must keep)"};
+  }
   if (c.vertexPrepass) {
     if (auto p = VertexZPrepass::findProblem(*c.vertexPrepass, detector)) {
       return ChainProblem{std::nullopt, "vertex_prepass." + p->first,

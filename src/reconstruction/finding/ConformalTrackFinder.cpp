@@ -124,8 +124,9 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
     const auto tStep = Clock::now();
     StepStats stats;
     stats.name = "SharedHits";
-    const detail::SharedHitResolution resolution(
-        {chain.cloneSharedHits, chain.finalMinUniqueHits});
+    const detail::SharedHitResolution resolution({chain.cloneSharedHits,
+                                                  chain.finalMinUniqueHits,
+                                                  chain.finalTrimSharedHits});
     stats.droppedTracks = resolution.run(state);
     stats.hitsUsed = static_cast<std::uint64_t>(
         std::count(state.used.begin(), state.used.end(), 1));

@@ -202,6 +202,8 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
     cfg.finalMinUniqueHits = static_cast<std::uint32_t>(
         f.getInt("final_min_unique_hits", cfg.finalMinUniqueHits,
                  Range::closed(0, 100)));
+    cfg.finalTrimSharedHits =
+        f.getBool("final_trim_shared_hits", cfg.finalTrimSharedHits);
     cfg.scatteringAllowance =
         f.getBool("scattering_allowance", cfg.scatteringAllowance);
     cfg.inwardScatteringAllowance =

@@ -13,6 +13,7 @@
 #include "conftrack/reconstruction/finding/detail/SharedHitResolution.hpp"
 
 #include "conftrack/reconstruction/SharedHitRules.hpp"
+#include "conftrack/reconstruction/finding/ConformalFit.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -20,6 +21,45 @@
 #include <vector>
 
 namespace conftrack::detail {
+
+namespace {
+
+/// Removes from a conformal track the hits that `kept` marks and refits
+/// it. False, with the track unchanged, for a helix track, if fewer than
+/// minUnique hits remain or if the refit fails.
+bool trimTrack(const FinderState& state, const std::vector<std::uint8_t>& kept,
+               std::uint32_t minUnique, TrackCandidate& track) {
+  if (track.helix || track.step >= state.config.steps.size()) {
+    return false;
+  }
+  std::vector<ConfIndex> own;
+  for (ConfIndex h : track.hits) {
+    if (kept[h] == 0) {
+      own.push_back(h);
+    }
+  }
+  if (own.size() < minUnique || own.size() == track.hits.size()) {
+    return false;
+  }
+  const FindingStep& step = state.config.steps[track.step];
+  const ConformalFitResult uv =
+      fitConformal(state.hits, own, !step.straightLineFit);
+  if (!uv.valid) {
+    return false;
+  }
+  const SzFitResult sz =
+      fitSz(state.hits, own, makeArcFrame(uv, state.hits, own.front()));
+  if (!sz.valid) {
+    return false;
+  }
+  track.hits = std::move(own);
+  track.uv = uv;
+  track.sz = sz;
+  track.pt = uv.pt(state.bzForPt);
+  return true;
+}
+
+}  // namespace
 
 SharedHitResolution::SharedHitResolution(Config config) : m_config(config) {
   if (m_config.minUniqueHits == 0) {
@@ -39,19 +79,34 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
   SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits);
   std::vector<std::uint64_t> keys;
   std::uint32_t dropped = 0;
+  std::uint32_t trimmed = 0;
+  // Hits of the tracks kept so far.
+  std::vector<std::uint8_t> kept(state.hits.size(), 0);
   for (std::uint32_t t : order) {
     TrackCandidate& track = tracks[t];
     if (!track.alive) {
       continue;
     }
     keys.assign(track.hits.begin(), track.hits.end());
-    if (rules.judge(keys, keys, t) != SharedHitRules::Verdict::eKeep) {
+    bool keep = rules.judge(keys, keys, t) == SharedHitRules::Verdict::eKeep;
+    if (!keep && m_config.trimSharedHits &&
+        trimTrack(state, kept, m_config.minUniqueHits, track)) {
+      // Trimmed, it shares no hit: the rules keep it.
+      keys.assign(track.hits.begin(), track.hits.end());
+      keep = rules.judge(keys, keys, t) == SharedHitRules::Verdict::eKeep;
+      ++trimmed;
+    }
+    if (!keep) {
       track.alive = false;
       ++dropped;
+      continue;
+    }
+    for (ConfIndex h : track.hits) {
+      kept[h] = 1;
     }
   }
-  if (dropped > 0) {
-    state.compact();
+  if (dropped > 0 || trimmed > 0) {
+    state.compact();  // also re-indexes the trimmed tracks' hits
   }
   // Every used hit that no kept track holds goes back to the pool.
   std::vector<std::uint8_t> held(state.hits.size(), 0);

@@ -289,6 +289,13 @@ struct FinderConfig {
   /// several real ones held the second hits of those tracks' overlaps,
   /// and the selection dropped them with those hits.
   std::uint32_t finalMinUniqueHits = 0;
+  /// With finalMinUniqueHits: a conformal track that breaks the clone or
+  /// ambiguity rule keeps the hits that no better track holds, if they are
+  /// at least finalMinUniqueHits, instead of being dropped (finder key
+  /// final_trim_shared_hits; off by default). Two particles' tracks that
+  /// share a pair of hits (one took the other's on a disk) are no clones:
+  /// the worse one loses those hits, not its own.
+  bool finalTrimSharedHits = false;
   /// Extensions and hole filling allow for multiple scattering in the
   /// material of the layer before a candidate hit (Highland, with the
   /// track's momentum estimate) in its chi2 increments. A conftrack

@@ -13,7 +13,8 @@
 
 namespace conftrack::detail {
 
-/// Drops ambiguous tracks of a FinderState and releases their hits.
+/// Drops (or trims) ambiguous tracks of a FinderState and releases their
+/// hits.
 class SharedHitResolution {
  public:
   struct Config {
@@ -23,6 +24,10 @@ class SharedHitResolution {
     /// A track that shares hits with better kept tracks needs this many
     /// hits of its own (FinderConfig::finalMinUniqueHits; at least 1).
     std::uint32_t minUniqueHits = 6;
+    /// A conformal track that breaks a rule keeps the hits no better kept
+    /// track holds, refitted, if they are at least minUniqueHits
+    /// (FinderConfig::finalTrimSharedHits); otherwise it is dropped.
+    bool trimSharedHits = false;
   };
 
   /// Throws std::invalid_argument for minUniqueHits 0.
@@ -31,9 +36,10 @@ class SharedHitResolution {
   /// Visits the live tracks best first (betterCandidate: more hits, then
   /// the lower fit chi2/ndf, then the hit lists: a total order, so the
   /// result does not depend on the input order) and drops those that
-  /// break a rule of Config. Every used hit that no kept track holds (the
-  /// dropped tracks' own hits) is marked unused. Compacts the tracks;
-  /// returns how many it dropped.
+  /// break a rule of Config (or trims them, with trimSharedHits). Every
+  /// used hit that no kept track holds (the dropped tracks' hits, those a
+  /// trimmed track lost) is marked unused. Compacts the tracks; returns
+  /// how many it dropped.
   std::uint32_t run(FinderState& state) const;
 
  private:
