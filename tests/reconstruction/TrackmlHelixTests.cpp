@@ -52,6 +52,11 @@ std::vector<Particle> secondaries(int event, double rMin, double rMax,
 struct OwnHits {
   std::size_t own = 0;
   std::size_t foreign = 0;
+  OwnHits& operator+=(const OwnHits& o) {
+    own += o.own;
+    foreign += o.foreign;
+    return *this;
+  }
 };
 OwnHits ownHits(const Event& event, const FindingResult& found,
                 const std::vector<std::uint16_t>& subdetectors) {
@@ -188,12 +193,8 @@ TEST(TrackmlHelix, ForwardSecondariesAreFollowedThroughTheStripDisks) {
     const FindingResult found = finder.run(event.hits);
     particles += forward.size();
     tracks += found.tracks.size();
-    const OwnHits d = ownHits(event, found, disks);
-    const OwnHits a = ownHits(event, found, {});
-    onDisks.own += d.own;
-    onDisks.foreign += d.foreign;
-    all.own += a.own;
-    all.foreign += a.foreign;
+    onDisks += ownHits(event, found, disks);
+    all += ownHits(event, found, {});
   }
   ASSERT_GT(particles, 2000u);
   std::printf(
@@ -247,12 +248,8 @@ TEST(TrackmlHelix, InwardCollectionsTakeThePixelHitsOfStripSeededTracks) {
         secondaries(e, 30.0, 150.0, 0.0, 4.0);
     const Event event = simulateTrackml(displaced, 0.0);
     particles += displaced.size();
-    const OwnHits a = ownHits(event, plain.run(event.hits), pixels);
-    const OwnHits b = ownHits(event, inward.run(event.hits), pixels);
-    without.own += a.own;
-    without.foreign += a.foreign;
-    with.own += b.own;
-    with.foreign += b.foreign;
+    without += ownHits(event, plain.run(event.hits), pixels);
+    with += ownHits(event, inward.run(event.hits), pixels);
   }
   ASSERT_GT(particles, 3000u);
   std::printf(

@@ -36,6 +36,10 @@ class SharedHitRules {
   Verdict judge(std::span<const std::uint64_t> matched,
                 std::span<const std::uint64_t> all, std::uint32_t index);
 
+  /// True if a kept track holds hit `id` (with minUniqueHits; always
+  /// false without it).
+  bool claimed(std::uint64_t id) const { return m_claimed.contains(id); }
+
  private:
   std::uint32_t m_cloneSharedHits;
   std::uint32_t m_minUniqueHits;

@@ -10,6 +10,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace conftrack {
 
@@ -48,6 +52,27 @@ std::string subdetectorName(const Detector& detector, std::uint16_t index) {
              : std::to_string(index);
 }
 
+/// What is wrong with a list of subdetector indices (a step's
+/// collections, seed_collections, inward_collections): an index the
+/// detector does not have, or one listed twice.
+std::optional<std::string> subdetectorListProblem(
+    const std::vector<std::uint16_t>& list, const Detector& detector) {
+  const std::size_t nSub = detector.subdetectors().size();
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    if (list[i] >= nSub) {
+      return "subdetector index " + std::to_string(list[i]) +
+             " is not one of the " + std::to_string(nSub) +
+             " subdetectors of detector '" + detector.name() + "'";
+    }
+    if (std::find(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(i),
+                  list[i]) != list.begin() + static_cast<std::ptrdiff_t>(i)) {
+      return "subdetector " + subdetectorName(detector, list[i]) +
+             " listed twice";
+    }
+  }
+  return std::nullopt;
+}
+
 std::optional<ChainProblem> findStepProblem(const FindingStep& s,
                                             std::size_t index,
                                             const Detector& detector) {
@@ -57,57 +82,22 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
   if (s.name.empty()) {
     return problem("name", "must not be empty");
   }
-  const std::size_t nSub = detector.subdetectors().size();
-  for (std::size_t i = 0; i < s.collections.size(); ++i) {
-    if (s.collections[i] >= nSub) {
-      return problem("collections",
-                     "subdetector index " + std::to_string(s.collections[i]) +
-                         " is not one of the " + std::to_string(nSub) +
-                         " subdetectors of detector '" + detector.name() + "'");
-    }
-    if (std::find(s.collections.begin(), s.collections.begin() + i,
-                  s.collections[i]) != s.collections.begin() + i) {
-      return problem("collections",
-                     "subdetector " +
-                         subdetectorName(detector, s.collections[i]) +
-                         " listed twice");
+  for (const auto& [key, list] :
+       {std::pair<const char*, const std::vector<std::uint16_t>*>{
+            "collections", &s.collections},
+        {"seed_collections", &s.seedCollections},
+        {"inward_collections", &s.inwardCollections}}) {
+    if (auto what = subdetectorListProblem(*list, detector)) {
+      return problem(key, std::move(*what));
     }
   }
-  for (std::size_t i = 0; i < s.seedCollections.size(); ++i) {
-    const std::uint16_t sub = s.seedCollections[i];
-    if (sub >= nSub) {
-      return problem("seed_collections",
-                     "subdetector index " + std::to_string(sub) +
-                         " is not one of the " + std::to_string(nSub) +
-                         " subdetectors of detector '" + detector.name() + "'");
-    }
-    if (std::find(s.seedCollections.begin(), s.seedCollections.begin() + i,
-                  sub) != s.seedCollections.begin() + i) {
-      return problem(
-          "seed_collections",
-          "subdetector " + subdetectorName(detector, sub) + " listed twice");
-    }
+  for (const std::uint16_t sub : s.seedCollections) {
     if (!s.collections.empty() &&
         std::find(s.collections.begin(), s.collections.end(), sub) ==
             s.collections.end()) {
       return problem("seed_collections",
                      "subdetector " + subdetectorName(detector, sub) +
                          " is not among the step's collections");
-    }
-  }
-  for (std::size_t i = 0; i < s.inwardCollections.size(); ++i) {
-    const std::uint16_t sub = s.inwardCollections[i];
-    if (sub >= nSub) {
-      return problem("inward_collections",
-                     "subdetector index " + std::to_string(sub) +
-                         " is not one of the " + std::to_string(nSub) +
-                         " subdetectors of detector '" + detector.name() + "'");
-    }
-    if (std::find(s.inwardCollections.begin(), s.inwardCollections.begin() + i,
-                  sub) != s.inwardCollections.begin() + i) {
-      return problem(
-          "inward_collections",
-          "subdetector " + subdetectorName(detector, sub) + " listed twice");
     }
   }
   if (!s.inwardCollections.empty() && !s.helix) {

@@ -87,32 +87,32 @@ void HelixFollower::follow(HelixPath& p, const Limits& limits) {
   }
 }
 
-void HelixFollower::followInward(HelixPath& p, const Limits& limits) {
-  // The path reversed: its hits from the last to the first, arc lengths
-  // from the last. fitCircle takes the orientation from the hits' order,
-  // so follow() moves against the particle's motion.
-  const std::size_t before = p.hits.size();
-  m_trial.hits.assign(p.hits.rbegin(), p.hits.rend());
-  m_trial.s.clear();
-  const double sEnd = p.s.back();
+namespace {
+
+/// The path run backwards: its hits from the last to the first, arc
+/// lengths from the last hit, its (s, z) line refitted.
+HelixPath reversedPath(const ConformalHits& hits, const HelixPath& p) {
+  HelixPath r;
+  r.hits.assign(p.hits.rbegin(), p.hits.rend());
+  r.s.reserve(p.s.size());
   for (auto it = p.s.rbegin(); it != p.s.rend(); ++it) {
-    m_trial.s.push_back(sEnd - *it);
+    r.s.push_back(p.s.back() - *it);
   }
-  m_trial.chi2 = p.chi2;
-  fitPathSz(m_hits, m_trial);
-  HelixPath reversed = std::move(m_trial);
+  r.chi2 = p.chi2;
+  fitPathSz(hits, r);
+  return r;
+}
+
+}  // namespace
+
+void HelixFollower::followInward(HelixPath& p, const Limits& limits) {
+  // fitCircle takes the orientation from the hits' order, so follow()
+  // moves the reversed path against the particle's motion.
+  HelixPath reversed = reversedPath(m_hits, p);
   follow(reversed, limits);
-  if (reversed.hits.size() == before) {
-    return;
+  if (reversed.hits.size() > p.hits.size()) {
+    p = reversedPath(m_hits, reversed);
   }
-  p.hits.assign(reversed.hits.rbegin(), reversed.hits.rend());
-  p.s.clear();
-  const double sFirst = reversed.s.back();
-  for (auto it = reversed.s.rbegin(); it != reversed.s.rend(); ++it) {
-    p.s.push_back(sFirst - *it);
-  }
-  p.chi2 = reversed.chi2;
-  fitPathSz(m_hits, p);
 }
 
 ConfIndex HelixFollower::choose(const HelixPath& p) {
@@ -182,7 +182,6 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
   // The prediction's transverse error: every hit's resolution and every
   // crossed layer's scattering (theta0 / cos(lambda) in azimuth), once per
   // layer crossing (the second hit of an overlap adds no kink).
-  m_errorS.assign(p.s.begin(), p.s.end());
   m_errorSigma.resize(n);
   m_errorKink.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -193,7 +192,7 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
     m_errorKink[k] =
         sameCrossing ? 0.0 : theta0(m_hits.layer[h], pt, sz.t) * secL;
   }
-  const bool modelled = m_error.reset(m_errorS, m_errorSigma, m_errorKink);
+  const bool modelled = m_error.reset(p.s, m_errorSigma, m_errorKink);
   // Without a parabola (fewer than three distinct arc lengths): the last
   // hit's error grown with the extrapolation, and the last layer's kink.
   const double lever = std::max(p.s[n - 1] - p.s[0], 1.0);
@@ -300,9 +299,9 @@ TransverseCircle HelixFollower::nextStretch(const HelixPath& p,
                                             const SzState& sz) {
   const ConfIndex last = p.hits.back();
   const double z0 = sz.z - sz.t * p.s.back();
-  predict(last, p.s.back(), z0, sz.t, c, m_crossings);
   const MagneticField& field = m_state.detector.field();
   if (field.isUniform()) {
+    predict(last, p.s.back(), z0, sz.t, c, m_crossings);
     return c;
   }
   // The field's bending (MagneticField::bendingComponent) along the

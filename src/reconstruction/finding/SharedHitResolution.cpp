@@ -24,17 +24,17 @@ namespace conftrack::detail {
 
 namespace {
 
-/// Removes from a conformal track the hits that `kept` marks and refits
-/// it. False, with the track unchanged, for a helix track, if fewer than
-/// minUnique hits remain or if the refit fails.
-bool trimTrack(const FinderState& state, const std::vector<std::uint8_t>& kept,
+/// Removes from a conformal track the hits that kept tracks hold
+/// (`rules`) and refits it. False, with the track unchanged, for a helix
+/// track, if fewer than minUnique hits remain or if the refit fails.
+bool trimTrack(const FinderState& state, const SharedHitRules& rules,
                std::uint32_t minUnique, TrackCandidate& track) {
   if (track.helix || track.step >= state.config.steps.size()) {
     return false;
   }
   std::vector<ConfIndex> own;
   for (ConfIndex h : track.hits) {
-    if (kept[h] == 0) {
+    if (!rules.claimed(h)) {
       own.push_back(h);
     }
   }
@@ -80,8 +80,6 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
   std::vector<std::uint64_t> keys;
   std::uint32_t dropped = 0;
   std::uint32_t trimmed = 0;
-  // Hits of the tracks kept so far.
-  std::vector<std::uint8_t> kept(state.hits.size(), 0);
   for (std::uint32_t t : order) {
     TrackCandidate& track = tracks[t];
     if (!track.alive) {
@@ -90,7 +88,7 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
     keys.assign(track.hits.begin(), track.hits.end());
     bool keep = rules.judge(keys, keys, t) == SharedHitRules::Verdict::eKeep;
     if (!keep && m_config.trimSharedHits &&
-        trimTrack(state, kept, m_config.minUniqueHits, track)) {
+        trimTrack(state, rules, m_config.minUniqueHits, track)) {
       // Trimmed, it shares no hit: the rules keep it.
       keys.assign(track.hits.begin(), track.hits.end());
       keep = rules.judge(keys, keys, t) == SharedHitRules::Verdict::eKeep;
@@ -99,24 +97,14 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
     if (!keep) {
       track.alive = false;
       ++dropped;
-      continue;
-    }
-    for (ConfIndex h : track.hits) {
-      kept[h] = 1;
     }
   }
   if (dropped > 0 || trimmed > 0) {
     state.compact();  // also re-indexes the trimmed tracks' hits
   }
   // Every used hit that no kept track holds goes back to the pool.
-  std::vector<std::uint8_t> held(state.hits.size(), 0);
-  for (const TrackCandidate& track : tracks) {
-    for (ConfIndex h : track.hits) {
-      held[h] = 1;
-    }
-  }
   for (ConfIndex h = 0; h < state.hits.size(); ++h) {
-    if (held[h] == 0) {
+    if (!rules.claimed(h)) {
       state.used[h] = 0;
     }
   }

@@ -120,7 +120,8 @@ class HelixFollower {
   /// has the mean bending of the field along them; it is rescaled about
   /// the last hit by that mean over the bending half-way to the next layer
   /// crossing inside its layer (predicted with the bending at the last
-  /// hit first). Returns c in a uniform field.
+  /// hit first). Returns c in a uniform field. Leaves the crossings
+  /// predicted on the returned circle in m_crossings.
   TransverseCircle nextStretch(const HelixPath& p, const TransverseCircle& c,
                                const SzState& sz);
 
@@ -175,9 +176,8 @@ class HelixFollower {
   std::vector<LayerHit> m_candidates;
   HelixPath m_trial;
   /// The transverse error of the current prediction, and its inputs per
-  /// path hit (arc length, transverse error, scattering angle).
+  /// path hit besides its arc length (transverse error, scattering angle).
   HelixPredictionError m_error;
-  std::vector<double> m_errorS;
   std::vector<double> m_errorSigma;
   std::vector<double> m_errorKink;
   /// Per detector layer: the pool's layers an extension looks at.
