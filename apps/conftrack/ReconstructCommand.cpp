@@ -69,6 +69,7 @@ void runReconstruct(const ReconstructOptions& opt) {
       writeSubmission(opt.output, events[i], event.hits, lists, opt.gzip);
     }
     warnIfTruncated("event " + std::to_string(events[i]), r.steps);
+    logVertexRegions(events[i], r.vertexRegions);
     reports[i] = {event.hits.size(), r.tracks.size(), r.findingMs, r.fittingMs,
                   std::move(r.steps)};
   });

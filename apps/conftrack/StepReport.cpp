@@ -3,6 +3,7 @@
 #include "conftrack/core/Log.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace conftrack::cli {
 
@@ -66,6 +67,29 @@ void warnIfTruncated(const std::string& event,
   if (!cut.empty()) {
     CONFTRACK_WARNING(event << ": combinatorics guards truncated the search ("
                             << cut << ")");
+  }
+}
+
+std::string describeVertexRegions(
+    std::span<const std::pair<double, double>> regions) {
+  if (regions.empty()) {
+    return "no vertex region";
+  }
+  std::string text = std::to_string(regions.size()) +
+                     (regions.size() == 1 ? " region:" : " regions:");
+  char buffer[64];
+  for (const auto& [lo, hi] : regions) {
+    std::snprintf(buffer, sizeof buffer, " [%.1f, %.1f]", lo, hi);
+    text += buffer;
+  }
+  return text + " mm";
+}
+
+void logVertexRegions(std::uint64_t event,
+                      std::span<const std::pair<double, double>> regions) {
+  if (!regions.empty()) {
+    CONFTRACK_DEBUG("event " << event << ": vertex pre-pass, "
+                             << describeVertexRegions(regions));
   }
 }
 

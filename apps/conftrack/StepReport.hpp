@@ -7,9 +7,11 @@
 
 #include "conftrack/reconstruction/finding/StepStats.hpp"
 
+#include <cstdint>
 #include <cstdio>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace conftrack::cli {
@@ -27,5 +29,15 @@ void printStepTable(std::FILE* out, std::span<const StepStats> steps,
 /// if none did).
 void warnIfTruncated(const std::string& event,
                      std::span<const StepStats> steps);
+
+/// Formats the vertex regions of the finder's pre-pass as "N regions:
+/// [lo, hi] ..." in mm with 0.1 mm precision ("no vertex region" if none).
+std::string describeVertexRegions(
+    std::span<const std::pair<double, double>> regions);
+
+/// Logs (debug level, -vv) the vertex regions of event `event`; nothing
+/// for an empty list (no pre-pass in the chain, or none found).
+void logVertexRegions(std::uint64_t event,
+                      std::span<const std::pair<double, double>> regions);
 
 }  // namespace conftrack::cli

@@ -44,6 +44,7 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   FindingResult found = m_finder.run(hits);
   r.findingMs = found.milliseconds;
   r.steps = std::move(found.steps);
+  r.vertexRegions = std::move(found.vertexRegions);
   r.candidates = found.tracks.size();
   std::vector<Track> tracks;
   if (m_config.fit) {

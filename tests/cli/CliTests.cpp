@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -243,6 +244,54 @@ TEST(Cli, TrackmlSimulationAgreesWithTheRealFiles) {
 // mm (713 interaction points: standard error 1.33 mm, 5 of them allowed),
 // each as a whole, the same for one and two threads and for the same seed.
 // --min-pt 1e6: no particle is propagated, only the vertices matter here.
+TEST(Cli, ReconstructLogsTheVertexRegionsAtDebugLevel) {
+  // The TrackML chain's vertex pre-pass: with -vv one line per event lists
+  // the regions its prompt steps seeded about (here the Kaggle luminous
+  // region, sigma_z 5.5 mm: within +-20 mm); without -vv nothing.
+  const fs::path real = fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml" /
+                        "train_100_events_no_truth";
+  const fs::path sim = tempDir("vz_sim");
+  ASSERT_EQ(conftrack("-q simulate-trackml --min-pt 1 -i " + real.string() +
+                      " -o " + sim.string())
+                .code,
+            0);
+  const std::string reco = "reconstruct --detector trackml --no-fit -i " +
+                           sim.string() + " -o " + tempDir("vz_out").string();
+  const Result debug = conftrack("-vv " + reco);
+  ASSERT_EQ(debug.code, 0) << debug.err;
+  std::istringstream lines(debug.err);
+  std::string line;
+  int events = 0;
+  const std::regex pattern(
+      R"(event (\d+): vertex pre-pass, (\d+) regions?:((?: \[-?\d+\.\d, -?\d+\.\d\])+) mm)");
+  while (std::getline(lines, line)) {
+    std::smatch m;
+    if (!std::regex_search(line, m, pattern)) {
+      continue;
+    }
+    ++events;
+    std::istringstream regions(m[3].str());
+    double lo = 0.0;
+    double hi = 0.0;
+    char c = 0;
+    int n = 0;
+    double previous = -1e9;
+    while (regions >> c >> lo >> c >> hi >> c) {
+      EXPECT_LE(lo, hi) << line;
+      EXPECT_GT(lo, previous) << line;
+      EXPECT_GT(lo, -20.0) << line;
+      EXPECT_LT(hi, 20.0) << line;
+      previous = hi;
+      ++n;
+    }
+    EXPECT_EQ(n, std::stoi(m[2].str())) << line;
+  }
+  EXPECT_EQ(events, 5) << debug.err;
+  const Result quiet = conftrack(reco);
+  ASSERT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("vertex pre-pass"), std::string::npos) << quiet.err;
+}
+
 TEST(Cli, SimulateTrackmlLuminousRegion) {
   const fs::path real = fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml" /
                         "train_100_events_no_truth";

@@ -304,5 +304,32 @@ TEST(VertexZPrepass, SeedsFollowTheVertices) {
   }
 }
 
+TEST(VertexZPrepass, FinderReportsTheVertexRegions) {
+  // The finder passes on the regions its steps seeded about: those of the
+  // pre-pass run alone on the same hits, holding the vertex at 120 mm;
+  // none without a pre-pass.
+  const Detector det = test::barrelDetector();
+  const std::vector<Hit> hits = syntheticEvent(det, {120.0}, 10, 0, 12);
+  const std::string step =
+      "max_seed_dphi = 0.2\nradial_search = true\n"
+      "straight_line_fit = true\nmax_seed_z0_mm = 300.0\n";
+  const std::string text = "[vertex_prepass]\ncollections = [\"Barrel\"]\n" +
+                           minimalStep("Barrel") + step +
+                           "vertex_window_mm = 10.0\n";
+  const FinderConfig chain = parseChain(text, "chain.toml", det);
+  const FindingResult r = ConformalTrackFinder(det, {chain}).run(hits);
+  const VertexZPrepass::Result alone = VertexZPrepass(det, *chain.vertexPrepass)
+                                           .run(makeConformalHits(hits, det));
+  ASSERT_FALSE(r.vertexRegions.empty());
+  EXPECT_EQ(r.vertexRegions, alone.regions);
+  EXPECT_TRUE(ZWindows(r.vertexRegions, 0.0).contains(120.0));
+  const FindingResult none =
+      ConformalTrackFinder(
+          det, {parseChain(minimalStep("Barrel") + step, "chain.toml", det)})
+          .run(hits);
+  EXPECT_TRUE(none.vertexRegions.empty());
+  EXPECT_EQ(none.tracks.size(), 10u);
+}
+
 }  // namespace
 }  // namespace conftrack

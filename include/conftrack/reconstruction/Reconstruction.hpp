@@ -47,6 +47,8 @@ class Reconstruction {
     std::vector<Track> tracks;
     /// Per finding step: counters and time.
     std::vector<StepStats> steps;
+    /// The finder's vertex regions (FindingResult::vertexRegions).
+    std::vector<std::pair<double, double>> vertexRegions;
     std::size_t candidates = 0;
     std::size_t fitFailures = 0;
     double findingMs = 0.0;

@@ -65,6 +65,7 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
   FindingResult result;
   if (chain.vertexPrepass) {
     result.steps.push_back(detail::findVertexRegions(state));
+    result.vertexRegions = state.vertexRegions;
   }
   std::optional<HitPool> pool;
   for (std::size_t i = 0; i < chain.steps.size(); ++i) {

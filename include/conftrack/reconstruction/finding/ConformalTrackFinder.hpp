@@ -39,6 +39,10 @@ Track toTrack(const FoundTrack& found);
 struct FindingResult {
   std::vector<FoundTrack> tracks;
   std::vector<StepStats> steps;
+  /// The event's vertex regions from the vertex-z pre-pass ([lo, hi] in z
+  /// [mm], ascending; empty without a pre-pass or where it found none),
+  /// about which the steps with vertex_window_mm seed (algorithm.md 3.16).
+  std::vector<std::pair<double, double>> vertexRegions;
   double milliseconds = 0.0;
 };
 
