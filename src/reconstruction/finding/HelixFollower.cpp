@@ -109,7 +109,9 @@ void HelixFollower::followInward(HelixPath& p, const Limits& limits) {
   // fitCircle takes the orientation from the hits' order, so follow()
   // moves the reversed path against the particle's motion.
   HelixPath reversed = reversedPath(m_hits, p);
+  m_inward = true;
   follow(reversed, limits);
+  m_inward = false;
   if (reversed.hits.size() > p.hits.size()) {
     p = reversedPath(m_hits, reversed);
   }
@@ -199,7 +201,17 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
   const double sigmaLast = transverseSigma(last);
   std::uint32_t missed = 0;
   m_layerHits.clear();
+  // Against the particle's motion the radius falls until the helix comes
+  // closest to the beam line: the particle was produced there or before.
+  // Beyond it the reversed helix climbs out again on the far side of its
+  // circle, where a low-momentum track's window finds other particles'
+  // hits (a 0.5 GeV strip track took a long-strip hit 760 mm out, and its
+  // fit failed on the hit order).
+  const double lastRadius = norm2(m_hits.x[last], m_hits.y[last]);
   for (const Crossing& x : m_crossings) {
+    if (m_inward && norm2(x.x, x.y) > lastRadius) {
+      break;
+    }
     const double ratio = x.ds / lever;
     const double growth = sigmaLast * (1.0 + ratio * ratio);
     const double kinkLast = ms0 * secL * x.ds;
@@ -257,6 +269,10 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
                     x.z + halfV, rCross - halfV, rCross + halfV, m_window);
     for (ConfIndex h : m_window) {
       if (m_state.used[h] != 0 || onPath(h, p)) {
+        continue;
+      }
+      // The hit itself, too: a disk's window reaches along the radius.
+      if (m_inward && m_hits.radius[h] >= lastRadius) {
         continue;
       }
       // Distance from the circle across the track, and z against the

@@ -166,6 +166,9 @@ class HelixFollower {
   const FindingStep& m_step;
   /// The limits of the current follow().
   Limits m_limits;
+  /// Set while followInward runs: the reversed path ends where its helix
+  /// comes closest to the beam line (followInward).
+  bool m_inward = false;
   const HitPool& m_pool;
   std::vector<ConfIndex> m_window;
   std::vector<Crossing> m_crossings;
