@@ -175,6 +175,41 @@ TEST(VertexZPrepass, FindsTheVerticesOfPromptTracks) {
   EXPECT_TRUE(noise.regions.empty());
 }
 
+TEST(VertexZPrepass, ExcludedHitsMakeNoVertex) {
+  // Two vertices of 15 tracks and random hits: both found; with the hits
+  // of the first vertex's tracks excluded (as those that tracks hold,
+  // FindingStep::vertexPrepassFreeHits), only the second.
+  const Detector det = test::barrelDetector();
+  VertexZPrepass::Config config;
+  config.collections = {*det.findSubdetector("Barrel")};
+  const VertexZPrepass prepass(det, config);
+  std::vector<Hit> hits = syntheticEvent(det, {-40.0}, 15, 0, 21);
+  const std::size_t first = hits.size();
+  for (const std::vector<Hit>& more : {syntheticEvent(det, {60.0}, 15, 0, 22),
+                                       syntheticEvent(det, {}, 0, 1000, 23)}) {
+    for (Hit h : more) {
+      h.id = hits.size() + 1;
+      hits.push_back(h);
+    }
+  }
+  const ConformalHits conformal = makeConformalHits(hits, det);
+  const ZWindows all(prepass.run(conformal).regions, 0.0);
+  EXPECT_TRUE(all.contains(-40.0));
+  EXPECT_TRUE(all.contains(60.0));
+  std::vector<std::uint8_t> held(conformal.size(), 0);
+  for (ConfIndex h = 0; h < conformal.size(); ++h) {
+    held[h] = conformal.original[h] < first ? 1 : 0;
+  }
+  const VertexZPrepass::Result free = prepass.run(conformal, &held);
+  const ZWindows rest(free.regions, 0.0);
+  EXPECT_FALSE(rest.near(-40.0, 5.0));
+  EXPECT_TRUE(rest.contains(60.0));
+  // Nothing excluded: the same as without the flags.
+  std::vector<std::uint8_t> none(conformal.size(), 0);
+  EXPECT_EQ(prepass.run(conformal, &none).regions,
+            prepass.run(conformal).regions);
+}
+
 TEST(VertexZPrepass, DenseVerticesFormOneRegion) {
   // 150 vertices with sigma_z = 5.5 mm (the Kaggle events): not resolved,
   // but one region covers them all but the outermost few.
@@ -242,6 +277,17 @@ TEST(VertexZPrepass, ChainKeys) {
       parseChain(minimalStep("Barrel"), "chain.toml", det);
   EXPECT_FALSE(plain.vertexPrepass.has_value());
   EXPECT_FALSE(std::isfinite(plain.steps[0].vertexWindow));
+
+  EXPECT_FALSE(c.steps[0].vertexPrepassFreeHits);
+  EXPECT_TRUE(parseChain(chainWith(table,
+                                   "vertex_window_mm = 12.0\n"
+                                   "vertex_prepass_free_hits = true\n"),
+                         "chain.toml", det)
+                  .steps[0]
+                  .vertexPrepassFreeHits);
+  EXPECT_NE(chainError(chainWith(table, "vertex_prepass_free_hits = true\n"))
+                .find("vertex_prepass_free_hits"),
+            std::string::npos);
 
   EXPECT_EQ(chainError(chainWith(table, "")), "");
   EXPECT_NE(chainError(chainWith("", "vertex_window_mm = 10.0\n"))

@@ -275,6 +275,12 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
                           "needs the chain's [vertex_prepass] table (the "
                           "vertices it finds)"};
     }
+    if (c.steps[i].vertexPrepassFreeHits &&
+        !(c.steps[i].build && std::isfinite(c.steps[i].vertexWindow))) {
+      return ChainProblem{i, "vertex_prepass_free_hits",
+                          "needs the build action and vertex_window_mm (the "
+                          "seeds it places)"};
+    }
     for (std::size_t j = 0; j < i; ++j) {
       if (c.steps[j].name == c.steps[i].name) {
         return ChainProblem{i, "name",

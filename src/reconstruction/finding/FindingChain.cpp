@@ -107,6 +107,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
   s.maxSeedDeltaPhi = quantity(t, "max_seed_dphi", rad, s.maxSeedDeltaPhi);
   s.maxSeedZ0 = quantity(t, "max_seed_z0_mm", mm, s.maxSeedZ0);
   s.vertexWindow = quantity(t, "vertex_window_mm", mm, s.vertexWindow);
+  s.vertexPrepassFreeHits =
+      t.getBool("vertex_prepass_free_hits", s.vertexPrepassFreeHits);
   s.maxSeedLength = quantity(t, "max_seed_length_mm", mm, s.maxSeedLength);
   s.maxSeedGap = quantity(t, "max_seed_gap_mm", mm, s.maxSeedGap);
   s.maxSeedCells = count(t, "max_seed_cells", s.maxSeedCells);

@@ -68,10 +68,12 @@ struct LayerHits {
   std::vector<double> phi, z, r;
 };
 
-LayerHits layerHits(const ConformalHits& hits, std::uint32_t layer) {
+LayerHits layerHits(const ConformalHits& hits, std::uint32_t layer,
+                    const std::vector<std::uint8_t>* excluded) {
   std::vector<ConfIndex> idx;
   for (ConfIndex h = 0; h < hits.size(); ++h) {
-    if (hits.layer[h] == layer) {
+    if (hits.layer[h] == layer &&
+        (excluded == nullptr || (*excluded)[h] == 0)) {
       idx.push_back(h);
     }
   }
@@ -271,12 +273,14 @@ VertexZPrepass::VertexZPrepass(const Detector& detector, Config config)
   m_layers.resize(3);
 }
 
-VertexZPrepass::Result VertexZPrepass::run(const ConformalHits& hits) const {
+VertexZPrepass::Result VertexZPrepass::run(
+    const ConformalHits& hits,
+    const std::vector<std::uint8_t>* excluded) const {
   const auto t0 = std::chrono::steady_clock::now();
   const Config& c = m_config;
-  const LayerHits l0 = layerHits(hits, m_layers[0]);
-  const LayerHits l1 = layerHits(hits, m_layers[1]);
-  const LayerHits l2 = layerHits(hits, m_layers[2]);
+  const LayerHits l0 = layerHits(hits, m_layers[0], excluded);
+  const LayerHits l1 = layerHits(hits, m_layers[1], excluded);
+  const LayerHits l2 = layerHits(hits, m_layers[2], excluded);
   const double r2 = m_detector->layers()[m_layers[2]].r;
   // Largest distance of a confirmation hit from the layer's radius (flat
   // sensors, overlaps): the z window of the grid search allows for it.
@@ -393,6 +397,13 @@ VertexZPrepass::Result VertexZPrepass::run(const ConformalHits& hits) const {
 }
 
 namespace detail {
+
+std::vector<std::pair<double, double>> findFreeHitVertexRegions(
+    const FinderState& state) {
+  return VertexZPrepass(state.detector, *state.config.vertexPrepass)
+      .run(state.hits, &state.used)
+      .regions;
+}
 
 StepStats findVertexRegions(FinderState& state) {
   const VertexZPrepass::Result r =

@@ -107,6 +107,14 @@ struct FindingStep {
   /// the luminous region of each event instead of a beam spot fixed in the
   /// chain (algorithm.md 3.16).
   double vertexWindow = std::numeric_limits<double>::infinity();
+  /// With vertexWindow: seed about the vertex regions of a pre-pass over
+  /// the hits that no track holds when the step starts, instead of the
+  /// event's (algorithm.md 3.16). After a prompt build, the hits of the
+  /// vertices it missed, small interactions far from the luminous
+  /// region's centre, are nearly all that is left, and their triplets
+  /// stand out of a background that the found tracks no longer feed.
+  /// Later steps seed about the event's regions again.
+  bool vertexPrepassFreeHits = false;
   /// Maximum 3-D distance between the two hits of a seed cell [mm]
   /// (infinity: no cut, as upstream). In the outer tracker the conformal
   /// disc reaches across the whole detector, so an outside-in seed pairs

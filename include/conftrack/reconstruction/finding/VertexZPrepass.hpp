@@ -128,8 +128,11 @@ class VertexZPrepass {
   const std::vector<std::uint32_t>& layers() const { return m_layers; }
 
   /// Finds the vertices among `hits` (all hits of the event; those off
-  /// the three layers are ignored).
-  Result run(const ConformalHits& hits) const;
+  /// the three layers are ignored). With `excluded` (one flag per hit),
+  /// the hits flagged non-zero are ignored too (FindingStep::
+  /// vertexPrepassFreeHits: the hits tracks already hold).
+  Result run(const ConformalHits& hits,
+             const std::vector<std::uint8_t>* excluded = nullptr) const;
 
  private:
   const Detector* m_detector;

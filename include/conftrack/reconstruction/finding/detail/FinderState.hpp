@@ -137,6 +137,11 @@ void fillHoles(FinderState& state, const HitPool& pool, StepStats& stats);
 /// time).
 StepStats findVertexRegions(FinderState& state);
 
+/// The vertex regions of the chain's pre-pass over the hits that no track
+/// holds (state.used), for a step with FindingStep::vertexPrepassFreeHits.
+std::vector<std::pair<double, double>> findFreeHitVertexRegions(
+    const FinderState& state);
+
 /// ExtendTracks: per-layer extension of tracks above the step's pT cut,
 /// then the catch-all extension of all tracks (algorithm.md 10).
 void extendTracks(FinderState& state, const FindingStep& step,
