@@ -1,0 +1,230 @@
+/// @file TrackmlChainSettingsTests.cpp
+/// The shipped TrackML chain's settings (chains/trackml.toml: its steps,
+/// their keys and the selection) and the chain keys added for it, their
+/// defaults and their validation.
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/evaluation/TrackmlScore.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/geometry/TrackmlDetector.hpp"
+#include "conftrack/geometry/TrackmlModuleLayout.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
+#include "conftrack/reconstruction/finding/ConformalHits.hpp"
+#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
+#include "conftrack/reconstruction/finding/HitPool.hpp"
+#include "conftrack/reconstruction/finding/StepStats.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
+#include "conftrack/simulation/TrackmlEvents.hpp"
+#include "conftrack/simulation/generators/HepMCText.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ChainText.hpp"
+#include "TrackmlSample.hpp"
+
+namespace conftrack {
+namespace {
+
+TEST(TrackmlChain, ShippedChainSettings) {
+  const Detector detector = loadDetector("trackml");
+  const FinderConfig c = readChain(resolveChainPath("trackml"), detector);
+  ASSERT_EQ(c.steps.size(), 10u);
+  auto step = [&](const std::string& name) -> const FindingStep& {
+    auto it =
+        std::find_if(c.steps.begin(), c.steps.end(),
+                     [&](const FindingStep& s) { return s.name == name; });
+    EXPECT_NE(it, c.steps.end()) << name;
+    return *it;
+  };
+  EXPECT_TRUE(c.overlapHits);
+  // Extensions without the scattering allowance, the inward completion
+  // with it (two keys).
+  EXPECT_FALSE(c.scatteringAllowance);
+  EXPECT_TRUE(c.inwardScatteringAllowance);
+  const FinderConfig off =
+      parseChain("[finder]\ninward_scattering_allowance = false\n" +
+                     minimalStep("PixelBarrel"),
+                 "chain.toml", detector);
+  EXPECT_FALSE(off.inwardScatteringAllowance);
+  EXPECT_TRUE(off.scatteringAllowance);
+  // The extensions' hit chi2 cut, relative to the track's chi2/ndf (off
+  // unless a chain sets it).
+  EXPECT_DOUBLE_EQ(c.extensionHitChi2Ratio, 30.0);
+  EXPECT_DOUBLE_EQ(c.extensionHitChi2Floor, 100.0);
+  EXPECT_DOUBLE_EQ(off.extensionHitChi2Ratio, 0.0);
+  // The displaced step last: real-space helices seeded in the pixels, cut
+  // against random helices through noise (d0, pT, no missed layer).
+  const FindingStep& helix = step("Helix");
+  EXPECT_TRUE(helix.helix && !helix.build && !helix.extend);
+  EXPECT_EQ(helix.seedCollections.size(), 2u);
+  EXPECT_EQ(helix.collections.size(), 6u);
+  EXPECT_DOUBLE_EQ(helix.maxD0, 200.0);
+  EXPECT_DOUBLE_EQ(helix.minPt, 0.15);
+  EXPECT_DOUBLE_EQ(helix.chi2Cut, 6.0);
+  EXPECT_DOUBLE_EQ(helix.maxSeedLength, 150.0);
+  EXPECT_DOUBLE_EQ(helix.maxSeedGap, 200.0);  // the outer pixel disks' gaps
+  EXPECT_EQ(helix.maxMissedLayers, 0u);
+  EXPECT_EQ(helix.continueMissedLayers, 1u);
+  EXPECT_DOUBLE_EQ(helix.continueChi2Cut, 18.0);
+  EXPECT_EQ(helix.firstPassMinHits, 8u);
+  // The files' particles end after half a turn.
+  EXPECT_DOUBLE_EQ(c.maxTrackTurns, 0.5);
+  EXPECT_EQ(c.finalMinUniqueHits, 6u);
+  EXPECT_TRUE(c.finalTrimSharedHits);
+  EXPECT_EQ(helix.minHits, 6u);
+  // ... and the displaced tracks beyond the pixels, seeded in the
+  // short-strip barrel with a tighter chi2 (strip z is coarse) and
+  // followed through all strips.
+  const FindingStep& strips = step("HelixStrips");
+  EXPECT_TRUE(strips.helix);
+  EXPECT_EQ(strips.seedCollections,
+            std::vector<std::uint16_t>{
+                *detector.findSubdetector("ShortStripBarrel")});
+  EXPECT_EQ(strips.collections.size(), 4u);
+  EXPECT_EQ(strips.minHits, 5u);  // 5-hit tracks: the short-track rule
+  EXPECT_DOUBLE_EQ(strips.chi2Cut, 6.0);
+  EXPECT_DOUBLE_EQ(strips.minPt, 0.15);
+  EXPECT_EQ(strips.continueMissedLayers, 1u);
+  EXPECT_DOUBLE_EQ(strips.continueChi2Cut, 18.0);
+  // The selection judges the strip helix step's 5-hit tracks.
+  const TrackSelector::Config selection =
+      readReconstructionConfig(resolveChainPath("trackml"), detector).selector;
+  EXPECT_EQ(selection.minUniqueHits, 6u);
+  EXPECT_EQ(selection.shortTrackHits, 6u);
+  EXPECT_DOUBLE_EQ(selection.shortTrackMaxChi2Ndf, 2.0);
+  EXPECT_EQ(selection.shortTrackSteps, std::vector<std::uint16_t>{9});
+  // The low-momentum build and its extension.
+  EXPECT_TRUE(step("LowPt").build && step("LowPt").minHits == 6 &&
+              step("LowPt").chi2Cut == 3000.0);
+  EXPECT_TRUE(step("Strips3").extend && !step("Strips3").build);
+  EXPECT_TRUE(step("PixelPrompt").build &&
+              step("PixelPrompt").straightLineFit &&
+              step("PixelPrompt").radialSearch);
+  // Seeds about the vertices of the event, not about a fixed beam spot.
+  ASSERT_TRUE(c.vertexPrepass.has_value());
+  EXPECT_EQ(
+      c.vertexPrepass->collections,
+      std::vector<std::uint16_t>{*detector.findSubdetector("PixelBarrel")});
+  EXPECT_DOUBLE_EQ(step("PixelPrompt").vertexWindow, 1.0);
+  // PixelPrompt again, about the vertices of the hits it left free.
+  EXPECT_FALSE(step("PixelPrompt").vertexPrepassFreeHits);
+  EXPECT_TRUE(step("PixelPrompt2").vertexPrepassFreeHits);
+  EXPECT_TRUE(step("PixelStrip").vertexPrepassFreeHits);
+  EXPECT_FALSE(step("LowPt").vertexPrepassFreeHits);
+  // Four-hit pixel tracks from the leftovers, with looser cell cuts.
+  EXPECT_EQ(step("PixelLoose").minHits, 4u);
+  EXPECT_GT(step("PixelLoose").maxCellAngleRZ,
+            step("PixelPrompt").maxCellAngleRZ);
+  EXPECT_DOUBLE_EQ(step("PixelPrompt2").vertexWindow, 1.0);
+  EXPECT_DOUBLE_EQ(step("PixelPrompt2").chi2Cut, step("PixelPrompt").chi2Cut);
+  EXPECT_DOUBLE_EQ(step("PixelStrip").vertexWindow, 4.0);
+  for (const FindingStep& s : c.steps) {
+    EXPECT_EQ(s.maxSeedZ0, std::numeric_limits<double>::infinity());
+  }
+  EXPECT_TRUE(step("PixelPrompt").seedCollections.empty());
+  EXPECT_TRUE(step("Strips1").extend && !step("Strips1").build);
+  EXPECT_DOUBLE_EQ(step("Strips1").chi2PtScale, 1.0);
+  EXPECT_DOUBLE_EQ(step("Strips1").chi2CutAt(2.0), 300.0);
+  EXPECT_DOUBLE_EQ(step("Strips1").chi2CutAt(0.5), 1200.0);
+  EXPECT_EQ(step("PixelStrip").collections.size(), 4u);
+  ASSERT_EQ(step("PixelStrip").seedCollections.size(), 2u);
+  EXPECT_EQ(step("PixelStrip").seedCollections[0],
+            *detector.findSubdetector("PixelBarrel"));
+  // The builds' path limit of 50 is a step setting; the finder's guard
+  // keeps its default.
+  EXPECT_EQ(step("PixelPrompt").maxPaths, 50u);
+  EXPECT_EQ(step("PixelStrip").maxPaths, 50u);
+  EXPECT_EQ(c.maxPathsPerSeed, FinderConfig{}.maxPathsPerSeed);
+
+  // The step additions default to upstream's behaviour; the CLICdet chain
+  // uses only the seed caps and tracker seeds in the displaced steps.
+  const Detector clic = loadDetector("clicdet");
+  const FinderConfig minimal =
+      parseChain(minimalStep("VertexBarrel"), "minimal.toml", clic);
+  const FindingStep& d = minimal.steps.at(0);
+  EXPECT_EQ(d.maxSeedZ0, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(d.vertexWindow, std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(minimal.vertexPrepass.has_value());
+  EXPECT_EQ(d.maxSeedLength, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(d.maxSeedCells, 0u);
+  EXPECT_TRUE(d.seedCollections.empty());
+  EXPECT_EQ(d.chi2PtScale, 0.0);
+  EXPECT_EQ(d.chi2CutAt(0.1), d.chi2Cut);
+  EXPECT_TRUE(minimal.finalHoleFilling && minimal.scatteringAllowance);
+  const FinderConfig clicChain = readChain(resolveChainPath("clicdet"), clic);
+  EXPECT_FALSE(clicChain.vertexPrepass.has_value());
+  for (const FindingStep& s : clicChain.steps) {
+    const bool displaced = s.name.starts_with("Displaced");
+    // LowPtHelix seeds in the vertex barrel and endcap, 100 mm long.
+    const bool lowPtHelix = s.name == "LowPtHelix";
+    EXPECT_EQ(
+        s.seedCollections.size(),
+        lowPtHelix
+            ? 2u
+            : (s.name == "Displaced" || s.helix ? 4u : (displaced ? 2u : 0u)));
+    EXPECT_EQ(s.chi2PtScale, 0.0);
+    const bool vertexBuild = s.build && !displaced;
+    EXPECT_EQ(s.maxSeedZ0,
+              vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
+        << s.name;
+    EXPECT_EQ(s.maxSeedCells, s.build && s.radialSearch ? 30u : 0u) << s.name;
+    EXPECT_EQ(s.vertexWindow, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(
+        s.maxSeedLength,
+        lowPtHelix
+            ? 100.0
+            : (s.helix ? 400.0
+                       : (displaced ? 800.0
+                                    : std::numeric_limits<double>::infinity())))
+        << s.name;
+  }
+}
+
+std::string chainError(const std::string& stepKeys) {
+  static const Detector det = loadDetector("trackml");
+  const std::string text = minimalStep("PixelBarrel") + stepKeys;
+  try {
+    parseChain(text, "chain.toml", det);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TrackmlChain, NewKeysAreValidated) {
+  EXPECT_EQ(chainError("max_seed_z0_mm = 20.0\n"
+                       "seed_collections = [\"PixelBarrel\"]\n"
+                       "chi2_cut_pt_scale_GeV = 1.0\n"),
+            "");
+  EXPECT_NE(chainError("max_seed_z0_mm = 0.0\n"), "");
+  EXPECT_NE(
+      chainError("max_seed_length_mm = -5.0\n").find("max_seed_length_mm"),
+      std::string::npos);
+  EXPECT_NE(chainError("max_seed_cells = -1\n").find("max_seed_cells"),
+            std::string::npos);
+  EXPECT_NE(chainError("chi2_cut_pt_scale_GeV = -1.0\n"), "");
+  EXPECT_NE(chainError("seed_collections = []\n").find("must not be empty"),
+            std::string::npos);
+  EXPECT_NE(chainError("seed_collections = [\"Pixel\"]\n")
+                .find("no subdetector 'Pixel'"),
+            std::string::npos);
+  EXPECT_NE(chainError("seed_collections = [\"PixelEndcap\"]\n")
+                .find("not among the step's collections"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace conftrack
