@@ -70,10 +70,10 @@ void warnIfTruncated(const std::string& event,
   }
 }
 
-std::string describeVertexRegions(
-    std::span<const std::pair<double, double>> regions) {
-  if (regions.empty()) {
-    return "no vertex region";
+void logVertexRegions(std::uint64_t event,
+                      std::span<const std::pair<double, double>> regions) {
+  if (regions.empty() || log::level() > log::Level::eDebug) {
+    return;
   }
   std::string text = std::to_string(regions.size()) +
                      (regions.size() == 1 ? " region:" : " regions:");
@@ -82,15 +82,7 @@ std::string describeVertexRegions(
     std::snprintf(buffer, sizeof buffer, " [%.1f, %.1f]", lo, hi);
     text += buffer;
   }
-  return text + " mm";
-}
-
-void logVertexRegions(std::uint64_t event,
-                      std::span<const std::pair<double, double>> regions) {
-  if (!regions.empty()) {
-    CONFTRACK_DEBUG("event " << event << ": vertex pre-pass, "
-                             << describeVertexRegions(regions));
-  }
+  CONFTRACK_DEBUG("event " << event << ": vertex pre-pass, " << text << " mm");
 }
 
 }  // namespace conftrack::cli

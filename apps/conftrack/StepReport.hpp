@@ -30,13 +30,9 @@ void printStepTable(std::FILE* out, std::span<const StepStats> steps,
 void warnIfTruncated(const std::string& event,
                      std::span<const StepStats> steps);
 
-/// Formats the vertex regions of the finder's pre-pass as "N regions:
-/// [lo, hi] ..." in mm with 0.1 mm precision ("no vertex region" if none).
-std::string describeVertexRegions(
-    std::span<const std::pair<double, double>> regions);
-
-/// Logs (debug level, -vv) the vertex regions of event `event`; nothing
-/// for an empty list (no pre-pass in the chain, or none found).
+/// Logs (debug level, -vv) the vertex regions of event `event` as "N
+/// regions: [lo, hi] ... mm" (0.1 mm precision); nothing for an empty list
+/// (no pre-pass in the chain, or none found).
 void logVertexRegions(std::uint64_t event,
                       std::span<const std::pair<double, double>> regions);
 

@@ -124,19 +124,18 @@ TEST(HelixStep, KeysAreValidated) {
       inward.steps[0].inwardCollections,
       (std::vector<std::uint16_t>{*clicdet().findSubdetector("VertexBarrel"),
                                   *clicdet().findSubdetector("VertexEndcap")}));
-  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
-                       "inward_collections = []\n")
-                .find("inward_collections"),
+  auto inwardError = [&](const std::string& list) {
+    return helixError(
+        "max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+        "inward_collections = " +
+        list + "\n");
+  };
+  EXPECT_NE(inwardError("[]").find("inward_collections"), std::string::npos);
+  EXPECT_NE(inwardError("[\"Calorimeter\"]").find("inward_collections"),
             std::string::npos);
-  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
-                       "inward_collections = [\"Calorimeter\"]\n")
-                .find("inward_collections"),
-            std::string::npos);
-  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
-                       "inward_collections = [\"VertexBarrel\", "
-                       "\"VertexBarrel\"]\n")
-                .find("listed twice"),
-            std::string::npos);
+  EXPECT_NE(
+      inwardError("[\"VertexBarrel\", \"VertexBarrel\"]").find("listed twice"),
+      std::string::npos);
   std::string notHelix;
   try {
     parseChain(minimalStep("VertexBarrel") +

@@ -4,36 +4,19 @@
 /// defaults and their validation.
 
 #include "conftrack/core/Error.hpp"
-#include "conftrack/evaluation/TrackmlScore.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
-#include "conftrack/geometry/TrackmlDetector.hpp"
-#include "conftrack/geometry/TrackmlModuleLayout.hpp"
 #include "conftrack/reconstruction/Reconstruction.hpp"
-#include "conftrack/reconstruction/finding/ConformalHits.hpp"
-#include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
-#include "conftrack/reconstruction/finding/HitPool.hpp"
-#include "conftrack/reconstruction/finding/StepStats.hpp"
-#include "conftrack/simulation/LuminousRegion.hpp"
-#include "conftrack/simulation/TrackmlEvents.hpp"
-#include "conftrack/simulation/generators/HepMCText.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
 #include <limits>
-#include <numbers>
-#include <optional>
-#include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "ChainText.hpp"
-#include "TrackmlSample.hpp"
 
 namespace conftrack {
 namespace {

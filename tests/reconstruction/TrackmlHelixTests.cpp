@@ -84,6 +84,22 @@ OwnHits ownHits(const Event& event, const FindingResult& found,
   return out;
 }
 
+/// A helix step over the strips with the shipped HelixStrips step's cuts
+/// (seeded in the short-strip barrel), and `extra` keys.
+std::string stripHelixStep(const std::string& extra) {
+  return "[[step]]\nname = \"S\"\n"
+         "collections = [\"ShortStripBarrel\", \"ShortStripEndcap\", "
+         "\"LongStripBarrel\", \"LongStripEndcap\"]\n"
+         "seed_collections = [\"ShortStripBarrel\"]\n"
+         "actions = [\"helix\"]\nmax_cell_angle = 0.03\n"
+         "max_cell_angle_rz = 0.005\nchi2_cut = 6.0\nmin_hits = 5\n"
+         "max_distance = 0.015\nslope_z_range = 10.0\nhigh_pt_cut_GeV = 0.0\n"
+         "max_seed_length_mm = 200.0\nmin_pt_GeV = 0.15\nmax_d0_mm = 700.0\n"
+         "max_missed_layers = 0\ncontinue_missed_layers = 1\n"
+         "continue_chi2_cut = 18.0\n" +
+         extra;
+}
+
 /// A helix step over the whole TrackML tracker with the shipped Helix
 /// step's cuts, seeded in `seeds`, and `extra` keys.
 std::string helixStep(const std::string& seeds, const std::string& extra) {
@@ -218,17 +234,7 @@ TEST(TrackmlHelix, InwardCollectionsTakeThePixelHitsOfStripSeededTracks) {
   // step's build cuts give 1466 and 124, and the chain's score 0.0012
   // less). Guarded at 1700 and 15 %.
   const Detector detector = loadDetector("trackml");
-  const std::string stripsOnly =
-      "[[step]]\nname = \"S\"\n"
-      "collections = [\"ShortStripBarrel\", \"ShortStripEndcap\", "
-      "\"LongStripBarrel\", \"LongStripEndcap\"]\n"
-      "seed_collections = [\"ShortStripBarrel\"]\n"
-      "actions = [\"helix\"]\nmax_cell_angle = 0.03\n"
-      "max_cell_angle_rz = 0.005\nchi2_cut = 6.0\nmin_hits = 5\n"
-      "max_distance = 0.015\nslope_z_range = 10.0\nhigh_pt_cut_GeV = 0.0\n"
-      "max_seed_length_mm = 200.0\nmin_pt_GeV = 0.15\nmax_d0_mm = 700.0\n"
-      "max_missed_layers = 0\ncontinue_missed_layers = 1\n"
-      "continue_chi2_cut = 18.0\n";
+  const std::string stripsOnly = stripHelixStep("");
   const std::vector<std::uint16_t> pixels = {
       *detector.findSubdetector("PixelBarrel"),
       *detector.findSubdetector("PixelEndcap")};
@@ -273,18 +279,8 @@ TEST(TrackmlHelix, InwardFollowingEndsWhereTheHelixTurnsOutwardAgain) {
   // The hits of one crossing (an overlap) come in their arc order, and a
   // first hit may lie outside the next layer's by a sensor gap: 10 mm.
   const Detector detector = loadDetector("trackml");
-  const std::string chain =
-      "[[step]]\nname = \"S\"\n"
-      "collections = [\"ShortStripBarrel\", \"ShortStripEndcap\", "
-      "\"LongStripBarrel\", \"LongStripEndcap\"]\n"
-      "seed_collections = [\"ShortStripBarrel\"]\n"
-      "inward_collections = [\"PixelBarrel\", \"PixelEndcap\"]\n"
-      "actions = [\"helix\"]\nmax_cell_angle = 0.03\n"
-      "max_cell_angle_rz = 0.005\nchi2_cut = 6.0\nmin_hits = 5\n"
-      "max_distance = 0.015\nslope_z_range = 10.0\nhigh_pt_cut_GeV = 0.0\n"
-      "max_seed_length_mm = 200.0\nmin_pt_GeV = 0.15\nmax_d0_mm = 700.0\n"
-      "max_missed_layers = 0\ncontinue_missed_layers = 1\n"
-      "continue_chi2_cut = 18.0\n";
+  const std::string chain = stripHelixStep(
+      "inward_collections = [\"PixelBarrel\", \"PixelEndcap\"]\n");
   const ConformalTrackFinder finder(
       detector, {parseChain(chain, "strips.toml", detector)});
   const Event event = simulateTrackml(test::event1001Particles(), 0.17);

@@ -109,9 +109,9 @@ void HelixFollower::followInward(HelixPath& p, const Limits& limits) {
   // fitCircle takes the orientation from the hits' order, so follow()
   // moves the reversed path against the particle's motion.
   HelixPath reversed = reversedPath(m_hits, p);
-  m_inward = true;
-  follow(reversed, limits);
-  m_inward = false;
+  Limits inward = limits;
+  inward.untilClosestApproach = true;
+  follow(reversed, inward);
   if (reversed.hits.size() > p.hits.size()) {
     p = reversedPath(m_hits, reversed);
   }
@@ -207,9 +207,12 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
   // circle, where a low-momentum track's window finds other particles'
   // hits (a 0.5 GeV strip track took a long-strip hit 760 mm out, and its
   // fit failed on the hit order).
-  const double lastRadius = norm2(m_hits.x[last], m_hits.y[last]);
+  const double maxRadius = m_limits.untilClosestApproach
+                               ? m_hits.radius[last]
+                               : std::numeric_limits<double>::infinity();
   for (const Crossing& x : m_crossings) {
-    if (m_inward && norm2(x.x, x.y) > lastRadius) {
+    const double rCross = norm2(x.x, x.y);
+    if (rCross > maxRadius) {
       break;
     }
     const double ratio = x.ds / lever;
@@ -235,7 +238,6 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
       varV = l.sigmaV * l.sigmaV + transverse +
              extrapZ * extrapZ / std::max(sz.t * sz.t, 0.01);
     }
-    const double rCross = norm2(x.x, x.y);
     // The crossing is that of the layer's nominal surface; its sensors
     // lie up to overlapMaxGap from it along the normal, where the track
     // is displaced along the layer by the gap over the cosine of its
@@ -272,7 +274,7 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
         continue;
       }
       // The hit itself, too: a disk's window reaches along the radius.
-      if (m_inward && m_hits.radius[h] >= lastRadius) {
+      if (m_hits.radius[h] >= maxRadius) {
         continue;
       }
       // Distance from the circle across the track, and z against the

@@ -13,7 +13,6 @@
 #include "conftrack/reconstruction/finding/detail/SharedHitResolution.hpp"
 
 #include "conftrack/reconstruction/SharedHitRules.hpp"
-#include "conftrack/reconstruction/finding/ConformalFit.hpp"
 
 #include <algorithm>
 #include <numeric>
@@ -25,8 +24,10 @@ namespace conftrack::detail {
 namespace {
 
 /// Removes from a conformal track the hits that kept tracks hold
-/// (`rules`) and refits it. False, with the track unchanged, for a helix
-/// track, if fewer than minUnique hits remain or if the refit fails.
+/// (`rules`) and refits it as a candidate of its step (fitCandidate: the
+/// step's chi2 cuts apply to what is left). False, with the track
+/// unchanged, for a helix track, if fewer than minUnique hits remain or if
+/// the refit fails or is cut.
 bool trimTrack(const FinderState& state, const SharedHitRules& rules,
                std::uint32_t minUnique, TrackCandidate& track) {
   if (track.helix || track.step >= state.config.steps.size()) {
@@ -41,21 +42,12 @@ bool trimTrack(const FinderState& state, const SharedHitRules& rules,
   if (own.size() < minUnique || own.size() == track.hits.size()) {
     return false;
   }
-  const FindingStep& step = state.config.steps[track.step];
-  const ConformalFitResult uv =
-      fitConformal(state.hits, own, !step.straightLineFit);
-  if (!uv.valid) {
+  TrackCandidate trimmed = track;
+  if (!fitCandidate(state, state.config.steps[track.step], std::move(own),
+                    trimmed)) {
     return false;
   }
-  const SzFitResult sz =
-      fitSz(state.hits, own, makeArcFrame(uv, state.hits, own.front()));
-  if (!sz.valid) {
-    return false;
-  }
-  track.hits = std::move(own);
-  track.uv = uv;
-  track.sz = sz;
-  track.pt = uv.pt(state.bzForPt);
+  track = std::move(trimmed);
   return true;
 }
 

@@ -49,6 +49,10 @@ class HelixFollower {
   struct Limits {
     std::uint32_t maxMissedLayers = 0;
     double chi2Cut = 0.0;
+    /// The path runs against the particle's motion (followInward): it
+    /// ends where its helix comes closest to the beam line, where the
+    /// particle was produced at the latest.
+    bool untilClosestApproach = false;
   };
 
   /// Extends the path outwards hit by hit (see the class comment), ending
@@ -166,9 +170,6 @@ class HelixFollower {
   const FindingStep& m_step;
   /// The limits of the current follow().
   Limits m_limits;
-  /// Set while followInward runs: the reversed path ends where its helix
-  /// comes closest to the beam line (followInward).
-  bool m_inward = false;
   const HitPool& m_pool;
   std::vector<ConfIndex> m_window;
   std::vector<Crossing> m_crossings;
