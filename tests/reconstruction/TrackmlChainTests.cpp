@@ -366,7 +366,7 @@ TEST(TrackmlChain, LongHelixCandidatesClaimTheirHitsFirst) {
   // noise and left-over hits, met early, took a hit of a long track met
   // later, which then fell short of its hits or was never built. With
   // first_pass_min_hits (8 and 7 in the shipped chain) the long candidates
-  // claim first. Measured on event 1001: fake rate 0.0151 without, 0.0130
+  // claim first. Measured on event 1001: fake rate 0.0150 without, 0.0129
   // with; score 0.8755 and 0.8766 (0.0142, 0.0118, 0.8712 and 0.8727
   // before PixelPrompt2 and PixelLoose; five events, before the strip helix
   // step took pT from 0.15 GeV: fake rate 0.021 -> 0.019, score +0.0011).
@@ -387,8 +387,9 @@ TEST(TrackmlChain, InwardCompletionTakesTheInnermostHitsOfForwardTracks) {
   // millimetres off the s-z line of the others ((1 + tan^2 lambda) times
   // the kink): the inward completion takes it only with its scattering
   // allowance (inward_scattering_allowance). Counted: hits on a track of
-  // their own particle (the track's majority). Measured 7627 with the
-  // allowance against 7511 without (7589 and 7473 before PixelLoose) (748
+  // their own particle (the track's majority). Measured 7618 with the
+  // allowance against 7502 without (7589 and 7473 before PixelLoose and the
+  // trimmed tracks' chi2 cuts) (748
   // particles, 8066 hits; the TrackML score of the five events 0.8433 -> 0.8448
   // with a lower fake rate). Guarded at +50.
   const std::vector<Particle> forward = test::forwardLowPtParticles();
