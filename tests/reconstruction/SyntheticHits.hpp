@@ -13,9 +13,12 @@
 
 namespace conftrack::test {
 
-/// Eight barrel layers (one subdetector "Barrel") and a disk layer set,
-/// each of xOverX0 radiation lengths.
-inline Detector barrelDetector(double xOverX0 = 0.001) {
+/// Eight barrel layers (one subdetector "Barrel"; at `radii` [mm]) and a
+/// disk layer set, each of xOverX0 radiation lengths.
+inline Detector barrelDetector(double xOverX0 = 0.001,
+                               const std::vector<double>& radii = {
+                                   30.0, 40.0, 50.0, 65.0, 80.0, 100.0, 120.0,
+                                   150.0}) {
   const std::string material = "x_over_x0 = " + std::to_string(xOverX0) + "\n";
   std::string text = R"([detector]
 name = "Synthetic"
@@ -26,7 +29,7 @@ envelope_z_mm = 1000.0
 name = "Barrel"
 kind = "barrel"
 )";
-  for (double r : {30.0, 40.0, 50.0, 65.0, 80.0, 100.0, 120.0, 150.0}) {
+  for (double r : radii) {
     text += "[[subdetector.layer]]\nname = \"L" + std::to_string(int(r)) +
             "\"\nr_mm = " + std::to_string(r) + "\nhalf_z_mm = 500.0\n" +
             material +
