@@ -42,8 +42,9 @@
 // the turn followed so far, not the follow's latest kFollowFitHits. The
 // first three hits of the nearest such segment along the motion join, and
 // the follow goes on from them with their circle (and takes the fourth
-// next). Only tracks below kJumpMaxPt (above it energy loss hardly moves a
-// turn) jump, over at most kJumpMaxArc.
+// next). Only tracks below kJumpMaxPt jump, over at most kJumpMaxArc
+// (the loopers whose further turns CLICdet's ACTS fakes lacked: see the
+// bounds below).
 
 #include "conftrack/reconstruction/finding/detail/TrackMerging.hpp"
 #include "conftrack/reconstruction/finding/detail/UnusedHits.hpp"
@@ -91,7 +92,7 @@ constexpr double kFollowMinLever = 10.0;
 /// were the followed particle's, with a first hit 1.9 mm (median) inside
 /// the predicted circle and a centre 5.3 mm off. Widened at stop 40, where
 /// the ACTS-fake tracks whose particle's next hits were free and whose
-/// segment search failed (30 events: 179 of 353 such tracks) were traced:
+/// segment search failed (30 events: 179 of the 353 ACTS fakes) were traced:
 /// the predicted circle, fitted to a few hits of the turn behind, is
 /// itself off by several millimetres either way (true next turns 2-13 mm
 /// outside it, not only inside as energy loss alone would put them), a
