@@ -239,11 +239,6 @@ TEST(Cli, TrackmlSimulationAgreesWithTheRealFiles) {
   EXPECT_LE(worstLayer, 0.241);
 }
 
-// simulate-trackml: the real vertices by default; with --luminous-region
-// hllhc the interactions of the five real events move to a z spread of 50
-// mm (713 interaction points: standard error 1.33 mm, 5 of them allowed),
-// each as a whole, the same for one and two threads and for the same seed.
-// --min-pt 1e6: no particle is propagated, only the vertices matter here.
 TEST(Cli, ReconstructLogsTheVertexRegionsAtDebugLevel) {
   // The TrackML chain's vertex pre-pass: with -vv one line per event lists
   // the regions its prompt steps seeded about (here the Kaggle luminous
@@ -292,6 +287,11 @@ TEST(Cli, ReconstructLogsTheVertexRegionsAtDebugLevel) {
   EXPECT_EQ(quiet.err.find("vertex pre-pass"), std::string::npos) << quiet.err;
 }
 
+// simulate-trackml: the real vertices by default; with --luminous-region
+// hllhc the interactions of the five real events move to a z spread of 50
+// mm (713 interaction points: standard error 1.33 mm, 5 of them allowed),
+// each as a whole, the same for one and two threads and for the same seed.
+// --min-pt 1e6: no particle is propagated, only the vertices matter here.
 TEST(Cli, SimulateTrackmlLuminousRegion) {
   const fs::path real = fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml" /
                         "train_100_events_no_truth";

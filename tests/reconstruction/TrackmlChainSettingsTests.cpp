@@ -25,11 +25,17 @@ TEST(TrackmlChain, ShippedChainSettings) {
   const Detector detector = loadDetector("trackml");
   const FinderConfig c = readChain(resolveChainPath("trackml"), detector);
   ASSERT_EQ(c.steps.size(), 10u);
+  // A step by name; a missing one fails the test (and reads as a default
+  // step instead of past the end).
+  static const FindingStep kMissing;
   auto step = [&](const std::string& name) -> const FindingStep& {
     auto it =
         std::find_if(c.steps.begin(), c.steps.end(),
                      [&](const FindingStep& s) { return s.name == name; });
-    EXPECT_NE(it, c.steps.end()) << name;
+    if (it == c.steps.end()) {
+      ADD_FAILURE() << "no step " << name;
+      return kMissing;
+    }
     return *it;
   };
   EXPECT_TRUE(c.overlapHits);

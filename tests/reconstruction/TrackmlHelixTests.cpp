@@ -276,8 +276,7 @@ TEST(TrackmlHelix, InwardFollowingEndsWhereTheHelixTurnsOutwardAgain) {
   // event 1001 with noise, 530 of 2224 strip-seeded tracks started with a
   // hit further out than the first on their next layer, some 600 mm out,
   // where the Kalman fit then failed on the hit order); now none of 2296.
-  // The hits of one crossing (an overlap) come in their arc order, and a
-  // first hit may lie outside the next layer's by a sensor gap: 10 mm.
+  // A first hit may lie outside the next layer's by a sensor gap: 10 mm.
   const Detector detector = loadDetector("trackml");
   const std::string chain = stripHelixStep(
       "inward_collections = [\"PixelBarrel\", \"PixelEndcap\"]\n");

@@ -10,7 +10,6 @@
 #include <chrono>
 #include <optional>
 #include <stdexcept>
-#include <utility>
 
 namespace conftrack {
 
@@ -74,13 +73,11 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
     const auto tStep = Clock::now();
     StepStats stats;
     stats.name = step.name;
-    // The step's own vertex regions (FindingStep::vertexPrepassFreeHits);
-    // the event's come back after it.
-    std::optional<std::vector<std::pair<double, double>>> eventRegions;
-    if (step.vertexPrepassFreeHits) {
-      eventRegions = std::exchange(state.vertexRegions,
-                                   detail::findFreeHitVertexRegions(state));
-    }
+    // The regions this step seeds about: the event's, or those of the hits
+    // still free (FindingStep::vertexPrepassFreeHits).
+    state.stepVertexRegions = step.vertexPrepassFreeHits
+                                  ? detail::findFreeHitVertexRegions(state)
+                                  : state.vertexRegions;
     if (!step.collections.empty()) {
       std::vector<ConfIndex> members;
       for (ConfIndex h = 0; h < conformal.size(); ++h) {
@@ -127,9 +124,6 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
         std::count(state.used.begin(), state.used.end(), 1));
     stats.milliseconds = msSince(tStep);
     result.steps.push_back(std::move(stats));
-    if (eventRegions) {
-      state.vertexRegions = std::move(*eventRegions);
-    }
   }
 
   if (chain.finalMinUniqueHits > 0 && !state.tracks.empty()) {

@@ -64,6 +64,10 @@ struct FinderState {
   /// Vertex regions of the event from the vertex-z pre-pass ([lo, hi] in
   /// z, ascending; empty without a pre-pass or where it found none).
   std::vector<std::pair<double, double>> vertexRegions;
+  /// The regions the current build step seeds about (SeedAutomaton): the
+  /// event's, or with FindingStep::vertexPrepassFreeHits those of a
+  /// pre-pass over the hits no track holds when the step starts.
+  std::vector<std::pair<double, double>> stepVertexRegions;
 
   FinderState(const ConformalHits& h, const Detector& d, const FinderConfig& c,
               double bz)

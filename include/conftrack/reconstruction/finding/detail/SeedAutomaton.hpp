@@ -40,7 +40,7 @@ class SeedAutomaton {
         m_cosCellAngle(std::cos(step.maxCellAngle)),
         m_cosCellAngleRZ(std::cos(step.maxCellAngleRZ)),
         m_zWindows(std::isfinite(step.vertexWindow)
-                       ? ZWindows(state.vertexRegions, 0.0)
+                       ? ZWindows(state.stepVertexRegions, 0.0)
                        : ZWindows()) {}
 
   /// Runs the automaton for one seed; appends passing candidates.
