@@ -293,11 +293,12 @@ std::uint32_t Simulator::simulateParticle(
     const bool modular =
         surface.isSensitive() && m_modules &&
         m_modules->hasModules(static_cast<std::uint32_t>(surface.layer));
+    bool endedInSensor = false;
     if (modular) {
-      xOverX0 = crossModules(helix, s, lookBehind,
-                             static_cast<std::uint32_t>(surface.layer), surface,
-                             direction, beta, time, particle.id, blindBand, rng,
-                             normal, nextHitId, scratch, out, nHits);
+      xOverX0 = crossModules(
+          helix, s, lookBehind, static_cast<std::uint32_t>(surface.layer),
+          surface, direction, beta, time, particle.id, blindBand, isHadron, rng,
+          normal, nextHitId, scratch, out, nHits, endedInSensor);
     } else if (surface.thicknessX0 > 0.0) {
       xOverX0 = surface.xOverX0(position, direction, m_config.minCosIncidence);
     }
@@ -354,7 +355,10 @@ std::uint32_t Simulator::simulateParticle(
         }
       }
     }
-    if (isHadron && xOverX0 > 0.0) {
+    if (endedInSensor) {
+      break;  // a nuclear interaction in a sensor (Config::supportOnSensors)
+    }
+    if (isHadron && xOverX0 > 0.0 && !(modular && m_config.supportOnSensors)) {
       const double probability =
           -std::expm1(-xOverX0 / m_config.interactionLengthX0);
       if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) < probability) {
@@ -375,9 +379,10 @@ std::uint32_t Simulator::simulateParticle(
 double Simulator::crossModules(
     const Helix& helix, double s, bool lookBehind, std::uint32_t layerIndex,
     const NavigationSurface& surface, const Vector3& direction, double beta,
-    double time, std::uint64_t particleId, int blindBand, RandomEngine& rng,
-    std::normal_distribution<double>& normal, std::uint64_t& nextHitId,
-    Scratch& scratch, Event& out, std::uint32_t& nHits) const {
+    double time, std::uint64_t particleId, int blindBand, bool isHadron,
+    RandomEngine& rng, std::normal_distribution<double>& normal,
+    std::uint64_t& nextHitId, Scratch& scratch, Event& out,
+    std::uint32_t& nHits, bool& interacted) const {
   const ModuleLayout& layout = *m_modules;
   const SensitiveLayer& layer = m_layers[layerIndex];
   scratch.crossings.clear();
@@ -393,9 +398,11 @@ double Simulator::crossModules(
           : kMinStep;
   findModuleCrossings(helix, s, sMin, layerIndex, layout, scratch.candidates,
                       scratch.crossings);
-  // The support, with the geometry of the layer surface.
+  // The support, with the geometry of the layer surface (or on each
+  // sensor crossed, Config::supportOnSensors).
+  const bool onSensors = m_config.supportOnSensors;
   double xOverX0 =
-      surface.thicknessX0 > 0.0
+      surface.thicknessX0 > 0.0 && !onSensors
           ? surface.xOverX0(helix.position(s), direction,
                             m_config.minCosIncidence) *
                 (layout.supportX0(layerIndex) / surface.thicknessX0)
@@ -408,29 +415,16 @@ double Simulator::crossModules(
   // Below the pT floor the particle ends in the first sensor it meets
   // (the real TrackML files: one hit, never two; docs/validation.md).
   const bool belowFloor = helix.pt() < m_config.minTransverseMomentum;
-  bool metOne = false;
-  for (const ModuleCrossing& crossing : scratch.crossings) {
-    if (m_neighbourhood &&
-        !m_neighbourhood->contains(layerIndex, crossing.module, layerPhi)) {
-      continue;  // not looked up at this crossing: never reached
-    }
-    if (belowFloor && metOne) {
-      break;
-    }
-    metOne = true;
-    const PlanarModule& module = layout.modules()[crossing.module];
-    Vector3 truePosition;
-    Vector3 momentum;
-    helix.positionAndMomentum(crossing.s, truePosition, momentum);
-    const double cosIncidence =
-        std::max(std::abs(momentum.normalized().dot(module.normal())),
-                 m_config.minCosIncidence);
-    xOverX0 += module.thicknessX0 / cosIncidence;
+  // A crossed sensor's hit, unless the track grazes it, is blind there or
+  // is smeared out of it.
+  auto recordHit = [&](const ModuleCrossing& crossing,
+                       const PlanarModule& module, const Vector3& truePosition,
+                       const Vector3& momentum, double cosIncidence) {
     if (cosIncidence < m_config.minHitCosIncidence) {
-      continue;  // too long a path in the sensor: no hit (real TrackML)
+      return;  // too long a path in the sensor: no hit (real TrackML)
     }
     if (isBlind(blindBand, truePosition, momentum)) {
-      continue;  // after an inward start's turn (Config::turnBandEdges)
+      return;  // after an inward start's turn (Config::turnBandEdges)
     }
     double u = crossing.u;
     double v = crossing.v;
@@ -443,7 +437,7 @@ double Simulator::crossModules(
         inside = module.contains(u, v);
       }
       if (!inside) {
-        continue;  // DDPlanarDigiProcessor drops it
+        return;  // DDPlanarDigiProcessor drops it
       }
     }
     Hit hit;
@@ -464,6 +458,36 @@ double Simulator::crossModules(
         time + helix.pathLength(crossing.s - s) / (beta * constants::c);
     out.truth.push_back(truth);
     ++nHits;
+  };
+  bool metOne = false;
+  for (const ModuleCrossing& crossing : scratch.crossings) {
+    if (m_neighbourhood &&
+        !m_neighbourhood->contains(layerIndex, crossing.module, layerPhi)) {
+      continue;  // not looked up at this crossing: never reached
+    }
+    if (belowFloor && metOne) {
+      break;
+    }
+    metOne = true;
+    const PlanarModule& module = layout.modules()[crossing.module];
+    Vector3 truePosition;
+    Vector3 momentum;
+    helix.positionAndMomentum(crossing.s, truePosition, momentum);
+    const double cosIncidence =
+        std::max(std::abs(momentum.normalized().dot(module.normal())),
+                 m_config.minCosIncidence);
+    const double sensorX0 = (module.thicknessX0 +
+                             (onSensors ? layout.supportX0(layerIndex) : 0.0)) /
+                            cosIncidence;
+    xOverX0 += sensorX0;
+    recordHit(crossing, module, truePosition, momentum, cosIncidence);
+    // isHadron is false without Config::hadronicInteractions.
+    if (onSensors && isHadron &&
+        std::uniform_real_distribution<double>(0.0, 1.0)(rng) <
+            -std::expm1(-sensorX0 / m_config.interactionLengthX0)) {
+      interacted = true;  // ends after this sensor's hit
+      break;
+    }
   }
   return xOverX0;
 }

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -45,9 +46,11 @@ Detector barrels(const std::vector<double>& radii, double halfZ,
 
 /// A ring of `n` flat sensors around the first layer of `detector`, each
 /// `widthFactor` times as wide as the ring's phi sector (> 1: overlaps,
-/// < 1: gaps), alternately 1 mm inside and outside the layer radius.
+/// < 1: gaps), alternately 1 mm inside and outside the layer radius; each
+/// layer's support `supportX0` [X0].
 std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
-                                         double widthFactor) {
+                                         double widthFactor,
+                                         double supportX0 = 0.001) {
   const SensitiveLayer& layer = detector.layers()[0];
   std::vector<PlanarModule> modules;
   for (int k = 0; k < n; ++k) {
@@ -69,7 +72,8 @@ std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
     modules.push_back(m);
   }
   return std::make_shared<const ModuleLayout>(
-      detector, modules, std::vector<double>(detector.layers().size(), 0.001));
+      detector, modules,
+      std::vector<double>(detector.layers().size(), supportX0));
 }
 
 Particle particle(std::uint64_t id, double pt, double phi, double eta,
@@ -282,6 +286,69 @@ TEST(ModuleSimulation, HadronicInteractionsEndHadronsOnly) {
   // Binomial: 5 standard deviations (0.0021).
   EXPECT_NEAR(pionsWithOneHit / n, expected,
               5.0 * std::sqrt(expected * (1.0 - expected) / n));
+}
+
+TEST(ModuleSimulation, SupportOnSensorsEndsParticlesBetweenOverlappingSensors) {
+  // 10 GeV pions through the overlap (or gap) of sensors 1 and 2 of a ring
+  // on the first of two layers, with 0.3 X0 of support and an
+  // interaction length of 1 X0; the second layer has no sensors (one ideal
+  // surface, one hit). Drawn once per layer (the default), an interaction
+  // ends a pion after both hits of the overlap; with the support on the
+  // sensors it can end it after the first, and a pion through a gap
+  // crosses no support.
+  const Detector detector = barrels({100.0, 200.0}, 2000.0, 0.01);
+  Simulator::Config config = test::idealSimulatorConfig();
+  config.hadronicInteractions = true;
+  config.interactionLengthX0 = 1.0;
+  constexpr int kCount = 4000;
+  constexpr int kHalfCount = kCount / 2;
+  // The overlap (or gap) at phi = pi/16 reaches 0.1 x 100 tan(pi/16) = 2
+  // mm to either side: +-0.01 rad keeps every particle inside it.
+  std::vector<Particle> particles;
+  for (int k = 0; k < kCount; ++k) {
+    particles.push_back(
+        particle(k + 1, 10.0, kPi / 16 + 5e-6 * (k - kHalfCount), 0.0));
+  }
+  const auto hitCounts = [&](bool onSensors, double widthFactor) {
+    config.supportOnSensors = onSensors;
+    const Simulator simulator(detector, config,
+                              ring(detector, 16, widthFactor, 0.3));
+    Event event;
+    RandomEngine rng(21);
+    simulator.simulate(particles, rng, event);
+    std::vector<int> counts(4, 0);
+    for (const Particle& p : event.particles) {
+      ++counts[std::min<std::uint32_t>(p.nHits, 3)];
+    }
+    std::vector<double> fraction;
+    for (int n : counts) {
+      fraction.push_back(double(n) / kCount);
+    }
+    return fraction;
+  };
+  const auto near = [&](double measured, double expected) {
+    // Binomial: 5 standard deviations.
+    EXPECT_NEAR(measured, expected,
+                5.0 * std::sqrt(expected * (1.0 - expected) / kCount));
+  };
+  // The sensors are tilted by pi/16 against the radial pions.
+  const double cosTilt = std::cos(kPi / 16);
+  const double perLayer = -std::expm1(-(0.3 + 2 * 0.002 / cosTilt));
+  const double perSensor = -std::expm1(-(0.3 + 0.002) / cosTilt);
+
+  const std::vector<double> once = hitCounts(false, 1.1);
+  EXPECT_EQ(once[0], 0.0);
+  EXPECT_EQ(once[1], 0.0);  // never between the two sensors
+  near(once[2], perLayer);
+  const std::vector<double> each = hitCounts(true, 1.1);
+  EXPECT_EQ(each[0], 0.0);
+  near(each[1], perSensor);
+  near(each[2], (1.0 - perSensor) * perSensor);
+
+  // Through the gap: the layer's support ends pions before the second
+  // layer once per layer, never with the support on the sensors.
+  near(hitCounts(false, 0.9)[0], -std::expm1(-0.3));
+  EXPECT_EQ(hitCounts(true, 0.9)[1], 1.0);
 }
 
 TEST(ModuleSimulation, NoHitAtGrazingIncidenceBelowTheCut) {

@@ -139,6 +139,11 @@ class Simulator {
     /// that give no hit and no material, as in the ACTS navigation of the
     /// real TrackML files (docs/validation.md item 6).
     bool diskPhiNeighbourhood = false;
+    /// On layers with sensors, the layer's support is carried by each
+    /// sensor crossed (at that sensor's angle) instead of once by the
+    /// layer surface, and a hadron's nuclear interaction is drawn after
+    /// each sensor's hit, ending the particle there.
+    bool supportOnSensors = false;
   };
 
   /// The smallest transverse step between two crossings [mm]: a surface
@@ -212,15 +217,17 @@ class Simulator {
   /// the material crossed [X0] along `direction`. Sensors in `blindBand`
   /// (turnBandEdges; -1: none) give no hit to a particle moving outward.
   /// With `lookBehind` (the helix starts at a field step's end), sensors
-  /// behind its start are taken too.
+  /// behind its start are taken too. With Config::supportOnSensors a
+  /// hadron (`isHadron`) may interact after each sensor's hit: then the
+  /// later sensors are not crossed and `interacted` is set.
   double crossModules(const Helix& helix, double s, bool lookBehind,
                       std::uint32_t layer, const NavigationSurface& surface,
                       const Vector3& direction, double beta, double time,
-                      std::uint64_t particleId, int blindBand,
+                      std::uint64_t particleId, int blindBand, bool isHadron,
                       RandomEngine& rng,
                       std::normal_distribution<double>& normal,
                       std::uint64_t& nextHitId, Scratch& scratch, Event& out,
-                      std::uint32_t& nHits) const;
+                      std::uint32_t& nHits, bool& interacted) const;
 
   /// `momentum` at the end of the first `s` of `helix` (built with the
   /// B_z of `field`), turned by `field`'s transverse part along it.
