@@ -79,6 +79,10 @@ Simulator::Simulator(const Detector& detector, const Config& config,
     throw std::invalid_argument(
         "Simulator: maxSmearAttempts and maxCrossings must be positive");
   }
+  if (!(m_config.innerSupportMinRadius >= 0.0)) {
+    throw std::invalid_argument(
+        "Simulator: innerSupportMinRadius must be >= 0");
+  }
   if (!(m_config.interactionLengthX0 > 0.0)) {
     throw std::invalid_argument("Simulator: interactionLengthX0 must be > 0");
   }
@@ -294,11 +298,12 @@ std::uint32_t Simulator::simulateParticle(
         surface.isSensitive() && m_modules &&
         m_modules->hasModules(static_cast<std::uint32_t>(surface.layer));
     bool endedInSensor = false;
+    double undrawnX0 = 0.0;
     if (modular) {
       xOverX0 = crossModules(
           helix, s, lookBehind, static_cast<std::uint32_t>(surface.layer),
           surface, direction, beta, time, particle.id, blindBand, isHadron, rng,
-          normal, nextHitId, scratch, out, nHits, endedInSensor);
+          normal, nextHitId, scratch, out, nHits, endedInSensor, undrawnX0);
     } else if (surface.thicknessX0 > 0.0) {
       xOverX0 = surface.xOverX0(position, direction, m_config.minCosIncidence);
     }
@@ -356,11 +361,12 @@ std::uint32_t Simulator::simulateParticle(
       }
     }
     if (endedInSensor) {
-      break;  // a nuclear interaction in a sensor (Config::supportOnSensors)
+      break;  // a nuclear interaction inside the layer (placedSupport)
     }
-    if (isHadron && xOverX0 > 0.0 && !(modular && m_config.supportOnSensors)) {
+    const double drawX0 = modular ? undrawnX0 : xOverX0;
+    if (isHadron && drawX0 > 0.0) {
       const double probability =
-          -std::expm1(-xOverX0 / m_config.interactionLengthX0);
+          -std::expm1(-drawX0 / m_config.interactionLengthX0);
       if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) < probability) {
         break;  // a nuclear interaction: the particle ends here
       }
@@ -382,7 +388,7 @@ double Simulator::crossModules(
     double time, std::uint64_t particleId, int blindBand, bool isHadron,
     RandomEngine& rng, std::normal_distribution<double>& normal,
     std::uint64_t& nextHitId, Scratch& scratch, Event& out,
-    std::uint32_t& nHits, bool& interacted) const {
+    std::uint32_t& nHits, bool& interacted, double& undrawnX0) const {
   const ModuleLayout& layout = *m_modules;
   const SensitiveLayer& layer = m_layers[layerIndex];
   scratch.crossings.clear();
@@ -398,15 +404,39 @@ double Simulator::crossModules(
           : kMinStep;
   findModuleCrossings(helix, s, sMin, layerIndex, layout, scratch.candidates,
                       scratch.crossings);
-  // The support, with the geometry of the layer surface (or on each
-  // sensor crossed, Config::supportOnSensors).
-  const bool onSensors = m_config.supportOnSensors;
-  double xOverX0 =
-      surface.thicknessX0 > 0.0 && !onSensors
-          ? surface.xOverX0(helix.position(s), direction,
+  // The support, with the geometry of the layer surface.
+  const Vector3 layerPosition = helix.position(s);
+  const double supportX0 =
+      surface.thicknessX0 > 0.0
+          ? surface.xOverX0(layerPosition, direction,
                             m_config.minCosIncidence) *
                 (layout.supportX0(layerIndex) / surface.thicknessX0)
           : 0.0;
+  double xOverX0 = supportX0;
+  const bool placed = m_config.placedSupport;
+  if (!placed) {
+    undrawnX0 = supportX0;  // drawn with the sensors', after the layer
+  }
+  // With Config::placedSupport: where the support lies along this crossing,
+  // as an arc length (before or after all sensors on a barrel layer, at
+  // the layer surface between a disk's planes of sensors).
+  double sSupport = s;
+  if (placed && !layer.isDisk()) {
+    const bool innerSide = layer.r >= m_config.innerSupportMinRadius;
+    const bool outward =
+        layerPosition.x() * direction.x() + layerPosition.y() * direction.y() >
+        0.0;
+    sSupport = innerSide == outward ? -std::numeric_limits<double>::infinity()
+                                    : std::numeric_limits<double>::infinity();
+  }
+  bool supportCrossed = !placed;
+  // A nuclear interaction in `x` X0 (isHadron is false without
+  // Config::hadronicInteractions).
+  auto interacts = [&](double x) {
+    return isHadron && x > 0.0 &&
+           std::uniform_real_distribution<double>(0.0, 1.0)(rng) <
+               -std::expm1(-x / m_config.interactionLengthX0);
+  };
   double layerPhi = 0.0;
   if (m_neighbourhood) {
     const Vector3 layerCrossing = helix.position(s);
@@ -469,6 +499,13 @@ double Simulator::crossModules(
       break;
     }
     metOne = true;
+    if (!supportCrossed && crossing.s > sSupport) {
+      supportCrossed = true;
+      if (interacts(supportX0)) {
+        interacted = true;  // ends in the support, before this sensor
+        return xOverX0;
+      }
+    }
     const PlanarModule& module = layout.modules()[crossing.module];
     Vector3 truePosition;
     Vector3 momentum;
@@ -476,18 +513,18 @@ double Simulator::crossModules(
     const double cosIncidence =
         std::max(std::abs(momentum.normalized().dot(module.normal())),
                  m_config.minCosIncidence);
-    const double sensorX0 = (module.thicknessX0 +
-                             (onSensors ? layout.supportX0(layerIndex) : 0.0)) /
-                            cosIncidence;
+    const double sensorX0 = module.thicknessX0 / cosIncidence;
     xOverX0 += sensorX0;
     recordHit(crossing, module, truePosition, momentum, cosIncidence);
-    // isHadron is false without Config::hadronicInteractions.
-    if (onSensors && isHadron &&
-        std::uniform_real_distribution<double>(0.0, 1.0)(rng) <
-            -std::expm1(-sensorX0 / m_config.interactionLengthX0)) {
+    if (!placed) {
+      undrawnX0 += sensorX0;
+    } else if (interacts(sensorX0)) {
       interacted = true;  // ends after this sensor's hit
-      break;
+      return xOverX0;
     }
+  }
+  if (!supportCrossed && interacts(supportX0)) {
+    interacted = true;  // ends in the support, after the sensors
   }
   return xOverX0;
 }

@@ -187,11 +187,13 @@ TEST(TrackmlHelix, ForwardSecondariesAreFollowedThroughTheStripDisks) {
   // helix step seeded in the pixels follows them with predictions on the
   // circle rescaled to the field ahead, the strips' radial error across
   // the track and the scattering of every layer crossed (HelixFollower,
-  // HelixPredictionError): measured 889 tracks holding 1745 of their own
-  // hits on the strip disks (10 of others) and 8416 in all, against 841
-  // tracks, 1013 and 7480 with the uniform-field circle, the last hit's
-  // error grown with the extrapolation and the last layer's scattering.
-  // Guarded at 1550 and 8100.
+  // HelixPredictionError): measured 855 tracks holding 1663 of their own
+  // hits on the strip disks (10 of others) and 8045 in all since the
+  // simulation placed the layers' support where the real files show it
+  // (docs/validation.md item 11; 889, 1745 and 8416 before), against 841
+  // tracks, 1013 and 7480 (before item 11) with the uniform-field circle,
+  // the last hit's error grown with the extrapolation and the last layer's
+  // scattering. Guarded at 1480 and 7750.
   const Detector detector = loadDetector("trackml");
   const ConformalTrackFinder finder(
       detector, {parseChain(helixStep("\"PixelBarrel\", \"PixelEndcap\"", ""),
@@ -217,8 +219,8 @@ TEST(TrackmlHelix, ForwardSecondariesAreFollowedThroughTheStripDisks) {
       "[ trackml, five events, %zu forward secondaries ] %zu tracks; own hits "
       "on the strip disks %zu (foreign %zu), in all %zu (foreign %zu)\n",
       particles, tracks, onDisks.own, onDisks.foreign, all.own, all.foreign);
-  EXPECT_GE(onDisks.own, 1550u);
-  EXPECT_GE(all.own, 8100u);
+  EXPECT_GE(onDisks.own, 1480u);
+  EXPECT_GE(all.own, 7750u);
   EXPECT_LE(onDisks.foreign, onDisks.own / 15);
 }
 

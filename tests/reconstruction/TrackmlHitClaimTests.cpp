@@ -63,10 +63,12 @@ TEST(TrackmlHitClaims, SteepLowMomentumTracksTakeBothHitsOfAnOverlap) {
   // hit errors: the overlap search judges the pair with that scattering
   // (overlapScatteringVariance). Counted: pixel-barrel layers where a
   // particle left two hits and its track (the majority) holds both.
-  // Measured 352 of 401 with the scattering against 325 without (350
-  // before the finder's shared-hit resolution; the rest: a pair's first
-  // hit left off the track, or both hits taken by another particle's
-  // track). Guarded at 340.
+  // Measured 328 of 388 with the scattering against 298 without (the
+  // rest: a pair's first hit left off the track, or both hits taken by
+  // another particle's track; 352 and 325 of 401 before the simulation
+  // placed the layers' support where the real files show it,
+  // docs/validation.md item 11, 350 before the finder's shared-hit
+  // resolution). Guarded at 318.
   const std::vector<Particle> forward = test::forwardLowPtParticles();
   ASSERT_GT(forward.size(), 300u);
   const Event event = test::simulateTrackml(forward, 0.0);
@@ -108,7 +110,7 @@ TEST(TrackmlHitClaims, SteepLowMomentumTracksTakeBothHitsOfAnOverlap) {
       "with two hits %zu, both on one track %zu\n",
       forward.size(), twoHitLayers, bothOnOneTrack);
   EXPECT_GT(twoHitLayers, 300u);
-  EXPECT_GE(bothOnOneTrack, 340u);
+  EXPECT_GE(bothOnOneTrack, 318u);
 }
 
 TEST(TrackmlHitClaims, SharedHitResolutionGivesHitsBackToTheirTracks) {

@@ -77,7 +77,7 @@ std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
 }
 
 Particle particle(std::uint64_t id, double pt, double phi, double eta,
-                  Vector3 vertex = Vector3::Zero(), int pdg = 211) {
+                  const Vector3& vertex = Vector3::Zero(), int pdg = 211) {
   Particle p;
   p.id = id;
   p.pdg = pdg;
@@ -288,14 +288,38 @@ TEST(ModuleSimulation, HadronicInteractionsEndHadronsOnly) {
               5.0 * std::sqrt(expected * (1.0 - expected) / n));
 }
 
-TEST(ModuleSimulation, SupportOnSensorsEndsParticlesBetweenOverlappingSensors) {
+/// Binomial: `measured` within 5 standard deviations of `expected` for
+/// `n` trials.
+void expectFraction(double measured, double expected, int n) {
+  EXPECT_NEAR(measured, expected,
+              5.0 * std::sqrt(expected * (1.0 - expected) / n));
+}
+
+/// Fractions of `particles` with 0, 1, 2 and 3 or more hits.
+std::vector<double> hitCountFractions(const Simulator& simulator,
+                                      const std::vector<Particle>& particles) {
+  Event event;
+  RandomEngine rng(21);
+  simulator.simulate(particles, rng, event);
+  std::vector<int> counts(4, 0);
+  for (const Particle& p : event.particles) {
+    ++counts[std::min<std::uint32_t>(p.nHits, 3)];
+  }
+  std::vector<double> fraction;
+  for (int n : counts) {
+    fraction.push_back(double(n) / double(particles.size()));
+  }
+  return fraction;
+}
+
+TEST(ModuleSimulation, PlacedSupportOfABarrelLayerLiesOnItsSide) {
   // 10 GeV pions through the overlap (or gap) of sensors 1 and 2 of a ring
-  // on the first of two layers, with 0.3 X0 of support and an
-  // interaction length of 1 X0; the second layer has no sensors (one ideal
-  // surface, one hit). Drawn once per layer (the default), an interaction
-  // ends a pion after both hits of the overlap; with the support on the
-  // sensors it can end it after the first, and a pion through a gap
-  // crosses no support.
+  // at r = 100 mm with 0.3 X0 of support, interaction length 1 X0; the
+  // second layer (r = 200 mm) has no sensors: one ideal surface, one hit.
+  // Drawn once per layer (the default), an interaction ends a pion after
+  // both hits of the overlap. Placed on the inner side, the support ends
+  // it before them (no hit), also through a gap; on the outer side after
+  // them.
   const Detector detector = barrels({100.0, 200.0}, 2000.0, 0.01);
   Simulator::Config config = test::idealSimulatorConfig();
   config.hadronicInteractions = true;
@@ -309,46 +333,103 @@ TEST(ModuleSimulation, SupportOnSensorsEndsParticlesBetweenOverlappingSensors) {
     particles.push_back(
         particle(k + 1, 10.0, kPi / 16 + 5e-6 * (k - kHalfCount), 0.0));
   }
-  const auto hitCounts = [&](bool onSensors, double widthFactor) {
-    config.supportOnSensors = onSensors;
-    const Simulator simulator(detector, config,
-                              ring(detector, 16, widthFactor, 0.3));
-    Event event;
-    RandomEngine rng(21);
-    simulator.simulate(particles, rng, event);
-    std::vector<int> counts(4, 0);
-    for (const Particle& p : event.particles) {
-      ++counts[std::min<std::uint32_t>(p.nHits, 3)];
-    }
-    std::vector<double> fraction;
-    for (int n : counts) {
-      fraction.push_back(double(n) / kCount);
-    }
-    return fraction;
+  const auto fractions = [&](bool placed, double innerMinRadius,
+                             double widthFactor) {
+    config.placedSupport = placed;
+    config.innerSupportMinRadius = innerMinRadius;
+    return hitCountFractions(
+        Simulator(detector, config, ring(detector, 16, widthFactor, 0.3)),
+        particles);
   };
-  const auto near = [&](double measured, double expected) {
-    // Binomial: 5 standard deviations.
-    EXPECT_NEAR(measured, expected,
-                5.0 * std::sqrt(expected * (1.0 - expected) / kCount));
-  };
-  // The sensors are tilted by pi/16 against the radial pions.
-  const double cosTilt = std::cos(kPi / 16);
-  const double perLayer = -std::expm1(-(0.3 + 2 * 0.002 / cosTilt));
-  const double perSensor = -std::expm1(-(0.3 + 0.002) / cosTilt);
+  // The sensors are tilted by pi/16 against the radial pions; the
+  // support has the layer surface's geometry (radial crossing).
+  const double sensor = -std::expm1(-0.002 / std::cos(kPi / 16));
+  const double support = -std::expm1(-0.3);
+  const double layer = -std::expm1(-(0.3 + 2 * 0.002 / std::cos(kPi / 16)));
 
-  const std::vector<double> once = hitCounts(false, 1.1);
+  const std::vector<double> once = fractions(false, 0.0, 1.1);
   EXPECT_EQ(once[0], 0.0);
   EXPECT_EQ(once[1], 0.0);  // never between the two sensors
-  near(once[2], perLayer);
-  const std::vector<double> each = hitCounts(true, 1.1);
-  EXPECT_EQ(each[0], 0.0);
-  near(each[1], perSensor);
-  near(each[2], (1.0 - perSensor) * perSensor);
+  expectFraction(once[2], layer, kCount);
+  const std::vector<double> inner = fractions(true, 50.0, 1.1);
+  expectFraction(inner[0], support, kCount);
+  expectFraction(inner[1], (1.0 - support) * sensor, kCount);
+  const std::vector<double> outer = fractions(true, 150.0, 1.1);
+  EXPECT_EQ(outer[0], 0.0);
+  expectFraction(outer[1], sensor, kCount);
+  expectFraction(outer[2], (1.0 - sensor) * (1.0 - sensor) * support, kCount);
+  // Through the gap the support is crossed all the same.
+  expectFraction(fractions(true, 50.0, 0.9)[0], support, kCount);
+  config.innerSupportMinRadius = -1.0;
+  EXPECT_THROW(Simulator(detector, config), std::invalid_argument);
+}
 
-  // Through the gap: the layer's support ends pions before the second
-  // layer once per layer, never with the support on the sensors.
-  near(hitCounts(false, 0.9)[0], -std::expm1(-0.3));
-  EXPECT_EQ(hitCounts(true, 0.9)[1], 1.0);
+TEST(ModuleSimulation, PlacedSupportOfADiskLiesBetweenItsSensorPlanes) {
+  // A disk at z = 300 mm with 0.3 X0 of support and two overlapping
+  // sensors, one 2 mm in front of the disk surface, one 2 mm behind;
+  // 10 GeV pions through their overlap. Placed, the support ends a pion
+  // between its two hits; drawn once per layer, never.
+  const std::string text =
+      "[detector]\nname = \"Toy\"\nmodel = \"toy\"\nbz_T = 2.0\n"
+      "envelope_r_mm = 900.0\nenvelope_z_mm = 4000.0\n\n"
+      "[[subdetector]]\nname = \"Disk\"\nkind = \"endcap\"\n"
+      "  [[subdetector.layer]]\n  name = \"D0\"\n  z_mm = 300.0\n"
+      "  r_min_mm = 20.0\n  r_max_mm = 150.0\n  x_over_x0 = 0.01\n"
+      "  sigma_rphi_um = 10.0\n  sigma_r_um = 20.0\n";
+  const Detector detector = parseDetector(text, "toy.toml");
+  std::uint32_t disk = 0;
+  while (detector.layers()[disk].z() < 0.0) {
+    ++disk;
+  }
+  std::vector<PlanarModule> modules;
+  for (int k = 0; k < 2; ++k) {
+    // Sensors 40 mm wide in y, overlapping over |y| < 2 mm at x = 60 mm.
+    PlanarModule m;
+    m.layer = disk;
+    m.module = static_cast<std::uint32_t>(k + 1);
+    m.center = Vector3(60.0, k == 0 ? -18.0 : 18.0, k == 0 ? 298.0 : 302.0);
+    m.rotation.col(0) = Vector3::UnitY();
+    m.rotation.col(1) = Vector3::UnitX();
+    m.rotation.col(2) = Vector3::UnitZ();
+    m.minHalfU = m.maxHalfU = 20.0;
+    m.halfV = 40.0;
+    m.thickness = 0.2;
+    m.thicknessX0 = 0.002;
+    m.sigmaU = 0.01;
+    m.sigmaV = 0.05;
+    modules.push_back(m);
+  }
+  std::vector<double> support(detector.layers().size(), 0.0);
+  support[disk] = 0.3;
+  const auto layout =
+      std::make_shared<const ModuleLayout>(detector, modules, support);
+  Simulator::Config config = test::idealSimulatorConfig();
+  config.hadronicInteractions = true;
+  config.interactionLengthX0 = 1.0;
+  constexpr int kCount = 4000;
+  constexpr int kHalfCount = kCount / 2;
+  // Towards (60, 0, 300) mm: eta = asinh(5); +-0.01 rad in phi is +-0.6
+  // mm in y.
+  const double eta = std::asinh(5.0);
+  std::vector<Particle> particles;
+  for (int k = 0; k < kCount; ++k) {
+    particles.push_back(particle(k + 1, 10.0, 5e-6 * (k - kHalfCount), eta));
+  }
+  // Normal to the disk, the path is 1 / cos(theta) = sqrt(26) / 5 longer.
+  const double secant = std::sqrt(26.0) / 5.0;
+  const double sensor = -std::expm1(-0.002 * secant);
+  const double layer = -std::expm1(-0.3 * secant);
+  config.placedSupport = false;
+  const std::vector<double> once =
+      hitCountFractions(Simulator(detector, config, layout), particles);
+  EXPECT_EQ(once[0], 0.0);
+  EXPECT_EQ(once[1], 0.0);
+  EXPECT_EQ(once[2], 1.0);
+  config.placedSupport = true;
+  const std::vector<double> placed =
+      hitCountFractions(Simulator(detector, config, layout), particles);
+  EXPECT_EQ(placed[0], 0.0);
+  expectFraction(placed[1], sensor + (1.0 - sensor) * layer, kCount);
 }
 
 TEST(ModuleSimulation, NoHitAtGrazingIncidenceBelowTheCut) {

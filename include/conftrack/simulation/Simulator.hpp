@@ -17,6 +17,7 @@
 #include "conftrack/geometry/SurfaceNavigator.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <random>
 #include <vector>
@@ -139,11 +140,17 @@ class Simulator {
     /// that give no hit and no material, as in the ACTS navigation of the
     /// real TrackML files (docs/validation.md item 6).
     bool diskPhiNeighbourhood = false;
-    /// On layers with sensors, the layer's support is carried by each
-    /// sensor crossed (at that sensor's angle) instead of once by the
-    /// layer surface, and a hadron's nuclear interaction is drawn after
-    /// each sensor's hit, ending the particle there.
-    bool supportOnSensors = false;
+    /// On layers with sensors, the layer's support is a surface of its
+    /// own, where the real TrackML files place it (docs/validation.md item
+    /// 11), and each sensor crossed and the support draw a hadron's
+    /// nuclear interaction in the order crossed, ending the particle
+    /// there: a disk's support lies at the layer surface, between its two
+    /// planes of sensors; a barrel layer's on its inner side if its radius
+    /// is at least innerSupportMinRadius, else on its outer side. Off: the
+    /// interaction is drawn once for the layer, after all its sensors.
+    bool placedSupport = false;
+    /// See placedSupport [mm]; >= 0.
+    double innerSupportMinRadius = std::numeric_limits<double>::infinity();
   };
 
   /// The smallest transverse step between two crossings [mm]: a surface
@@ -217,9 +224,10 @@ class Simulator {
   /// the material crossed [X0] along `direction`. Sensors in `blindBand`
   /// (turnBandEdges; -1: none) give no hit to a particle moving outward.
   /// With `lookBehind` (the helix starts at a field step's end), sensors
-  /// behind its start are taken too. With Config::supportOnSensors a
-  /// hadron (`isHadron`) may interact after each sensor's hit: then the
-  /// later sensors are not crossed and `interacted` is set.
+  /// behind its start are taken too. `undrawnX0` receives the material
+  /// whose nuclear interaction (of a hadron, `isHadron`) the caller draws
+  /// after the layer; with Config::placedSupport the interactions are
+  /// drawn here, and `interacted` is set if one ended the particle.
   double crossModules(const Helix& helix, double s, bool lookBehind,
                       std::uint32_t layer, const NavigationSurface& surface,
                       const Vector3& direction, double beta, double time,
@@ -227,7 +235,8 @@ class Simulator {
                       RandomEngine& rng,
                       std::normal_distribution<double>& normal,
                       std::uint64_t& nextHitId, Scratch& scratch, Event& out,
-                      std::uint32_t& nHits, bool& interacted) const;
+                      std::uint32_t& nHits, bool& interacted,
+                      double& undrawnX0) const;
 
   /// `momentum` at the end of the first `s` of `helix` (built with the
   /// B_z of `field`), turned by `field`'s transverse part along it.

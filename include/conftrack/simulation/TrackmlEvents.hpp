@@ -43,19 +43,19 @@ double trackmlPtWeight(double pt);
 double trackmlOrderWeight(std::uint32_t ihit, std::uint32_t nhits);
 
 /// Effective interaction length of the TrackML-like simulation [X0],
-/// measured from the real files with the layers' support on their sensors
-/// (trackmlSimulatorConfig; docs/validation.md items 3 and 11).
-inline constexpr double kTrackmlInteractionLengthX0 = 1.4;
+/// measured from the real files with the layers' support placed where
+/// they show it (trackmlSimulatorConfig; docs/validation.md items 3, 11).
+inline constexpr double kTrackmlInteractionLengthX0 = 1.1;
 
 /// The Simulator settings of TrackML-like events: the defaults with
 /// maxTurns = 0.5 (the loop protection of the ACTS propagator that
 /// simulated the Kaggle events: its path limit is half the helix
 /// circumference, and the real prompt central particles indeed have the
 /// hits of their outward half turn only), hadronicInteractions with the
-/// effective interaction length kTrackmlInteractionLengthX0, drawn after
-/// each sensor crossed with the layer's support on it (supportOnSensors),
-/// and minHitCosIncidence = 0.1 (all read off the real files;
-/// docs/validation.md).
+/// effective interaction length kTrackmlInteractionLengthX0, drawn at
+/// each sensor and at each layer's support, placed where the real files'
+/// secondaries are produced (placedSupport), and minHitCosIncidence = 0.1
+/// (all read off the real files; docs/validation.md).
 Simulator::Config trackmlSimulatorConfig();
 
 /// The vertex id of a TrackML particle_id: bits 52-63, the field
