@@ -182,8 +182,8 @@ Simulator::Config trackmlSimulatorConfig() {
   // Where the layers' material lies, read off the real files' production
   // vertices of secondaries (docs/validation.md item 11): the pixel disks'
   // and strip disks' between their two planes of sensors, the pixel
-  // barrels' 1.5-2.5 mm outside their sensors, the strip barrels' 4-5 mm
-  // inside theirs; each sensor and the support draw their own
+  // barrels' 2.3-3.9 mm outside their sensors, the strip barrels' 3-3.5
+  // mm inside theirs; each sensor and the support draw their own
   // interaction, so a particle can end between two sensors of a layer,
   // or before a strip layer's sensors.
   config.placedSupport = true;
