@@ -45,7 +45,8 @@ namespace conftrack {
 /// (u, v) frame and kept inside it, so that overlapping sensors give two
 /// hits and gaps none; the material is that of the sensors crossed, each
 /// at its own angle, plus the layer's support, applied once at the layer
-/// crossing.
+/// crossing (with Config::placedSupport the nuclear interactions are
+/// drawn at each sensor and at the support, where it lies).
 ///
 /// Thread-safe: simulate() is const and all randomness comes from the
 /// engine passed in, so the output is a function of (particles, engine
