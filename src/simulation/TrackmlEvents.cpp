@@ -172,8 +172,10 @@ Simulator::Config trackmlSimulatorConfig() {
   // Particles end in the material far more often in the real files than
   // silicon's interaction length gives: 8-16 % of the prompt particles
   // above 1 GeV keep at most 60 % of the usual hit count (by abs(eta) bin),
-  // against 1-3 % with lambda_I = 4.97 X0. An effective 1.1 X0 (with the
-  // material placed as below) gives those fractions within a few points
+  // against 1-3 % with lambda_I = 4.97 X0. An effective 1.3 X0 (with the
+  // material placed as below and the two material disks of the detector
+  // file, docs/validation.md item 12) gives those fractions within a few
+  // points
   // and the hits per particle within 5 % in most bins (docs/validation.md);
   // it is a property of the challenge's simulation read off its output,
   // not silicon physics.

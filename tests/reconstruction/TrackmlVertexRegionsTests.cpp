@@ -59,12 +59,12 @@ Found promptFound(const Event& event, const FindingResult& result,
 
 TEST(TrackmlVertexRegions, FreeHitPrepassFindsTheVerticesTheFirstMissed) {
   // The shipped chain's PixelPrompt alone, and followed by PixelPrompt2
-  // (the same cuts, vertex_prepass_free_hits): measured 2476 prompt
-  // particles found (pixel tracks only, no strip extension), 18 of them
-  // more than 5 mm from the event's regions, then 2527 and 59 (2480 and
-  // 34, 2526 and 71 before the simulation placed the layers' support where
-  // the real files show it, docs/validation.md item 11). Guarded at +30
-  // and +25.
+  // (the same cuts, vertex_prepass_free_hits): measured 2432 prompt
+  // particles found (pixel tracks only, no strip extension), 26 of them
+  // more than 5 mm from the event's regions, then 2475 and 60 (2480 and
+  // 34, 2526 and 71 before the simulation placed the layers' material where
+  // the real files show it, docs/validation.md items 11 and 12). Guarded
+  // at +30 and +25.
   const Detector detector = loadDetector("trackml");
   const FinderConfig shipped = readChain(resolveChainPath("trackml"), detector);
   FinderConfig one = shipped;

@@ -137,7 +137,8 @@ struct TrackmlDetectorOptions {
   /// configuration: 1 mm of X0 = 95.7 mm). 0 thickness: none.
   double supportThickness = 1.0;
   double supportX0 = 95.7;
-  /// Beam pipe and pixel support tube as passive cylinders.
+  /// Beam pipe and pixel support tube as passive cylinders, and the two
+  /// material disks the real files show (docs/validation.md item 12).
   bool passives = true;
   /// Write trackml_layer_neg for endcap layers whose negative-side
   /// layer_id differs (needs a DetectorReader that knows the key).

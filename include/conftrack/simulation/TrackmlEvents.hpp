@@ -43,9 +43,9 @@ double trackmlPtWeight(double pt);
 double trackmlOrderWeight(std::uint32_t ihit, std::uint32_t nhits);
 
 /// Effective interaction length of the TrackML-like simulation [X0],
-/// measured from the real files with the layers' support placed where
-/// they show it (trackmlSimulatorConfig; docs/validation.md items 3, 11).
-inline constexpr double kTrackmlInteractionLengthX0 = 1.1;
+/// measured from the real files with the material placed where they
+/// show it (trackmlSimulatorConfig; docs/validation.md items 3, 11, 12).
+inline constexpr double kTrackmlInteractionLengthX0 = 1.3;
 
 /// The Simulator settings of TrackML-like events: the defaults with
 /// maxTurns = 0.5 (the loop protection of the ACTS propagator that
