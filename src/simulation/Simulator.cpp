@@ -298,12 +298,11 @@ std::uint32_t Simulator::simulateParticle(
         surface.isSensitive() && m_modules &&
         m_modules->hasModules(static_cast<std::uint32_t>(surface.layer));
     bool endedInSensor = false;
-    double undrawnX0 = 0.0;
     if (modular) {
       xOverX0 = crossModules(
           helix, s, lookBehind, static_cast<std::uint32_t>(surface.layer),
           surface, direction, beta, time, particle.id, blindBand, isHadron, rng,
-          normal, nextHitId, scratch, out, nHits, endedInSensor, undrawnX0);
+          normal, nextHitId, scratch, out, nHits, endedInSensor);
     } else if (surface.thicknessX0 > 0.0) {
       xOverX0 = surface.xOverX0(position, direction, m_config.minCosIncidence);
     }
@@ -363,13 +362,10 @@ std::uint32_t Simulator::simulateParticle(
     if (endedInSensor) {
       break;  // a nuclear interaction inside the layer (placedSupport)
     }
-    const double drawX0 = modular ? undrawnX0 : xOverX0;
-    if (isHadron && drawX0 > 0.0) {
-      const double probability =
-          -std::expm1(-drawX0 / m_config.interactionLengthX0);
-      if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) < probability) {
-        break;  // a nuclear interaction: the particle ends here
-      }
+    // With placedSupport a layer of sensors drew its interactions itself.
+    const bool drawnInLayer = modular && m_config.placedSupport;
+    if (!drawnInLayer && interacts(xOverX0, isHadron, rng)) {
+      break;  // a nuclear interaction: the particle ends here
     }
     momentum = p * direction;
     if (momentum.head<2>().squaredNorm() == 0.0) {
@@ -382,13 +378,20 @@ std::uint32_t Simulator::simulateParticle(
   return nHits;
 }
 
+bool Simulator::interacts(double xOverX0, bool isHadron,
+                          RandomEngine& rng) const {
+  return isHadron && xOverX0 > 0.0 &&
+         std::uniform_real_distribution<double>(0.0, 1.0)(rng) <
+             -std::expm1(-xOverX0 / m_config.interactionLengthX0);
+}
+
 double Simulator::crossModules(
     const Helix& helix, double s, bool lookBehind, std::uint32_t layerIndex,
     const NavigationSurface& surface, const Vector3& direction, double beta,
     double time, std::uint64_t particleId, int blindBand, bool isHadron,
     RandomEngine& rng, std::normal_distribution<double>& normal,
     std::uint64_t& nextHitId, Scratch& scratch, Event& out,
-    std::uint32_t& nHits, bool& interacted, double& undrawnX0) const {
+    std::uint32_t& nHits, bool& interacted) const {
   const ModuleLayout& layout = *m_modules;
   const SensitiveLayer& layer = m_layers[layerIndex];
   scratch.crossings.clear();
@@ -414,9 +417,6 @@ double Simulator::crossModules(
           : 0.0;
   double xOverX0 = supportX0;
   const bool placed = m_config.placedSupport;
-  if (!placed) {
-    undrawnX0 = supportX0;  // drawn with the sensors', after the layer
-  }
   // With Config::placedSupport: where the support lies along this crossing,
   // as an arc length (before or after all sensors on a barrel layer, at
   // the layer surface between a disk's planes of sensors).
@@ -430,18 +430,8 @@ double Simulator::crossModules(
                                     : std::numeric_limits<double>::infinity();
   }
   bool supportCrossed = !placed;
-  // A nuclear interaction in `x` X0 (isHadron is false without
-  // Config::hadronicInteractions).
-  auto interacts = [&](double x) {
-    return isHadron && x > 0.0 &&
-           std::uniform_real_distribution<double>(0.0, 1.0)(rng) <
-               -std::expm1(-x / m_config.interactionLengthX0);
-  };
-  double layerPhi = 0.0;
-  if (m_neighbourhood) {
-    const Vector3 layerCrossing = helix.position(s);
-    layerPhi = std::atan2(layerCrossing.y(), layerCrossing.x());
-  }
+  const double layerPhi =
+      m_neighbourhood ? std::atan2(layerPosition.y(), layerPosition.x()) : 0.0;
   // Below the pT floor the particle ends in the first sensor it meets
   // (the real TrackML files: one hit, never two; docs/validation.md).
   const bool belowFloor = helix.pt() < m_config.minTransverseMomentum;
@@ -501,7 +491,7 @@ double Simulator::crossModules(
     metOne = true;
     if (!supportCrossed && crossing.s > sSupport) {
       supportCrossed = true;
-      if (interacts(supportX0)) {
+      if (interacts(supportX0, isHadron, rng)) {
         interacted = true;  // ends in the support, before this sensor
         return xOverX0;
       }
@@ -516,14 +506,12 @@ double Simulator::crossModules(
     const double sensorX0 = module.thicknessX0 / cosIncidence;
     xOverX0 += sensorX0;
     recordHit(crossing, module, truePosition, momentum, cosIncidence);
-    if (!placed) {
-      undrawnX0 += sensorX0;
-    } else if (interacts(sensorX0)) {
+    if (placed && interacts(sensorX0, isHadron, rng)) {
       interacted = true;  // ends after this sensor's hit
       return xOverX0;
     }
   }
-  if (!supportCrossed && interacts(supportX0)) {
+  if (!supportCrossed && interacts(supportX0, isHadron, rng)) {
     interacted = true;  // ends in the support, after the sensors
   }
   return xOverX0;

@@ -175,10 +175,9 @@ Simulator::Config trackmlSimulatorConfig() {
   // against 1-3 % with lambda_I = 4.97 X0. An effective 1.3 X0 (with the
   // material placed as below and the two material disks of the detector
   // file, docs/validation.md item 12) gives those fractions within a few
-  // points
-  // and the hits per particle within 5 % in most bins (docs/validation.md);
-  // it is a property of the challenge's simulation read off its output,
-  // not silicon physics.
+  // points and the hits per particle within 5 % in most bins; it is a
+  // property of the challenge's simulation read off its output, not
+  // silicon physics.
   config.hadronicInteractions = true;
   config.interactionLengthX0 = kTrackmlInteractionLengthX0;
   // Where the layers' material lies, read off the real files' production

@@ -88,6 +88,13 @@ Particle particle(std::uint64_t id, double pt, double phi, double eta,
   return p;
 }
 
+/// Binomial: `measured` within 5 standard deviations of `expected` for
+/// `n` trials.
+void expectFraction(double measured, double expected, int n) {
+  EXPECT_NEAR(measured, expected,
+              5.0 * std::sqrt(expected * (1.0 - expected) / n));
+}
+
 TEST(ModuleSimulation, OverlapGivesTwoHitsAndGapNone) {
   const Detector detector = barrels({100.0}, 200.0, 0.01);
   const Simulator overlapping(detector, test::idealSimulatorConfig(),
@@ -282,17 +289,8 @@ TEST(ModuleSimulation, HadronicInteractionsEndHadronsOnly) {
   }
   const double expected =
       -std::expm1(-0.5 / kSiliconInteractionOverRadiationLength);
-  const double n = kCount / 2.0;
   // Binomial: 5 standard deviations (0.0021).
-  EXPECT_NEAR(pionsWithOneHit / n, expected,
-              5.0 * std::sqrt(expected * (1.0 - expected) / n));
-}
-
-/// Binomial: `measured` within 5 standard deviations of `expected` for
-/// `n` trials.
-void expectFraction(double measured, double expected, int n) {
-  EXPECT_NEAR(measured, expected,
-              5.0 * std::sqrt(expected * (1.0 - expected) / n));
+  expectFraction(pionsWithOneHit / (kCount / 2.0), expected, kCount / 2);
 }
 
 /// Fractions of `particles` with 0, 1, 2 and 3 or more hits.

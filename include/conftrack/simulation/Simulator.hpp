@@ -225,10 +225,10 @@ class Simulator {
   /// the material crossed [X0] along `direction`. Sensors in `blindBand`
   /// (turnBandEdges; -1: none) give no hit to a particle moving outward.
   /// With `lookBehind` (the helix starts at a field step's end), sensors
-  /// behind its start are taken too. `undrawnX0` receives the material
-  /// whose nuclear interaction (of a hadron, `isHadron`) the caller draws
-  /// after the layer; with Config::placedSupport the interactions are
-  /// drawn here, and `interacted` is set if one ended the particle.
+  /// behind its start are taken too. With Config::placedSupport the
+  /// nuclear interactions of a hadron (`isHadron`) are drawn here, at each
+  /// sensor and at the support, and `interacted` is set if one ended the
+  /// particle; otherwise the caller draws one for the returned material.
   double crossModules(const Helix& helix, double s, bool lookBehind,
                       std::uint32_t layer, const NavigationSurface& surface,
                       const Vector3& direction, double beta, double time,
@@ -236,8 +236,11 @@ class Simulator {
                       RandomEngine& rng,
                       std::normal_distribution<double>& normal,
                       std::uint64_t& nextHitId, Scratch& scratch, Event& out,
-                      std::uint32_t& nHits, bool& interacted,
-                      double& undrawnX0) const;
+                      std::uint32_t& nHits, bool& interacted) const;
+  /// Whether a hadron (`isHadron`) interacts in `xOverX0` of material:
+  /// probability 1 - exp(-xOverX0 / Config::interactionLengthX0), one
+  /// draw from `rng` when there is material.
+  bool interacts(double xOverX0, bool isHadron, RandomEngine& rng) const;
 
   /// `momentum` at the end of the first `s` of `helix` (built with the
   /// B_z of `field`), turned by `field`'s transverse part along it.
