@@ -46,11 +46,12 @@ Detector barrels(const std::vector<double>& radii, double halfZ,
 
 /// A ring of `n` flat sensors around the first layer of `detector`, each
 /// `widthFactor` times as wide as the ring's phi sector (> 1: overlaps,
-/// < 1: gaps), alternately 1 mm inside and outside the layer radius; each
-/// layer's support `supportX0` [X0].
+/// < 1: gaps), alternately 1 mm inside and outside the layer radius, of
+/// `sensorX0` [X0]; each layer's support `supportX0` [X0].
 std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
                                          double widthFactor,
-                                         double supportX0 = 0.001) {
+                                         double supportX0 = 0.001,
+                                         double sensorX0 = 0.002) {
   const SensitiveLayer& layer = detector.layers()[0];
   std::vector<PlanarModule> modules;
   for (int k = 0; k < n; ++k) {
@@ -66,7 +67,7 @@ std::shared_ptr<const ModuleLayout> ring(const Detector& detector, int n,
     m.minHalfU = m.maxHalfU = widthFactor * layer.r * std::tan(kPi / n);
     m.halfV = layer.zMax;
     m.thickness = 0.2;
-    m.thicknessX0 = 0.002;
+    m.thicknessX0 = sensorX0;
     m.sigmaU = 0.01;
     m.sigmaV = 0.05;
     modules.push_back(m);
@@ -312,12 +313,13 @@ std::vector<double> hitCountFractions(const Simulator& simulator,
 
 TEST(ModuleSimulation, PlacedSupportOfABarrelLayerLiesOnItsSide) {
   // 10 GeV pions through the overlap (or gap) of sensors 1 and 2 of a ring
-  // at r = 100 mm with 0.3 X0 of support, interaction length 1 X0; the
+  // at r = 100 mm (0.05 X0 each) with 0.3 X0 of support, interaction
+  // length 1 X0; the
   // second layer (r = 200 mm) has no sensors: one ideal surface, one hit.
   // Drawn once per layer (the default), an interaction ends a pion after
-  // both hits of the overlap. Placed on the inner side, the support ends
-  // it before them (no hit), also through a gap; on the outer side after
-  // them.
+  // both hits of the overlap. Placed, each sensor ends it after its own
+  // hit, and the support on the inner side before them (no hit), also
+  // through a gap, on the outer side after them.
   const Detector detector = barrels({100.0, 200.0}, 2000.0, 0.01);
   Simulator::Config config = test::idealSimulatorConfig();
   config.hadronicInteractions = true;
@@ -336,14 +338,14 @@ TEST(ModuleSimulation, PlacedSupportOfABarrelLayerLiesOnItsSide) {
     config.placedSupport = placed;
     config.innerSupportMinRadius = innerMinRadius;
     return hitCountFractions(
-        Simulator(detector, config, ring(detector, 16, widthFactor, 0.3)),
+        Simulator(detector, config, ring(detector, 16, widthFactor, 0.3, 0.05)),
         particles);
   };
   // The sensors are tilted by pi/16 against the radial pions; the
   // support has the layer surface's geometry (radial crossing).
-  const double sensor = -std::expm1(-0.002 / std::cos(kPi / 16));
+  const double sensor = -std::expm1(-0.05 / std::cos(kPi / 16));
   const double support = -std::expm1(-0.3);
-  const double layer = -std::expm1(-(0.3 + 2 * 0.002 / std::cos(kPi / 16)));
+  const double layer = -std::expm1(-(0.3 + 2 * 0.05 / std::cos(kPi / 16)));
 
   const std::vector<double> once = fractions(false, 0.0, 1.1);
   EXPECT_EQ(once[0], 0.0);
@@ -352,10 +354,12 @@ TEST(ModuleSimulation, PlacedSupportOfABarrelLayerLiesOnItsSide) {
   const std::vector<double> inner = fractions(true, 50.0, 1.1);
   expectFraction(inner[0], support, kCount);
   expectFraction(inner[1], (1.0 - support) * sensor, kCount);
+  expectFraction(inner[2], (1.0 - support) * (1.0 - sensor) * sensor, kCount);
   const std::vector<double> outer = fractions(true, 150.0, 1.1);
   EXPECT_EQ(outer[0], 0.0);
   expectFraction(outer[1], sensor, kCount);
-  expectFraction(outer[2], (1.0 - sensor) * (1.0 - sensor) * support, kCount);
+  expectFraction(outer[2], (1.0 - sensor) * (sensor + (1.0 - sensor) * support),
+                 kCount);
   // Through the gap the support is crossed all the same.
   expectFraction(fractions(true, 50.0, 0.9)[0], support, kCount);
   config.innerSupportMinRadius = -1.0;
