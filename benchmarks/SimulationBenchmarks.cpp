@@ -142,9 +142,13 @@ void simulateTrackmlEvent(benchmark::State& state) {
                 ReadOptions{false, true});
   const bool moduleLevel = state.range(0) != 0;
   TrackmlEventSimulation::Config config;
-  config.noiseFraction = 0.17;
   config.minPt = 0.15;
-  if (!moduleLevel) {
+  if (moduleLevel) {
+    // The real files' noise, as `conftrack simulate-trackml`.
+    config.noisePerSensor = kTrackmlNoisePerSensor;
+  } else {
+    // Ideal layers have no sensors to carry a rate (--ideal-layers).
+    config.noiseFraction = 0.17;
     config.simulator = Simulator::Config();
   }
   const TrackmlEventSimulation simulation(

@@ -24,6 +24,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <sstream>
+#include <string>
 
 #include "Commands.hpp"
 #include "EventLoop.hpp"
@@ -32,6 +34,17 @@
 namespace conftrack::cli {
 
 namespace {
+
+/// Noise with --ideal-layers, which have no sensors to carry a rate: the
+/// real files' mean share of hits without a particle (16-19 %).
+constexpr double kIdealLayersNoiseFraction = 0.17;
+
+/// A number as the help text shows it ("0.943", not "0.943000").
+std::string shortNumber(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
 
 struct ScoreOptions {
   std::string submissions;
@@ -75,7 +88,11 @@ struct TrackmlSimOptions {
   std::string output = "trackml-events";
   std::string detectorsCsv =
       (dataDirectory() / "data/trackml/detectors.csv.gz").string();
-  double noise = 0.17;
+  /// Noise as a fraction of all hits; unset: noisePerSensor with sensors,
+  /// kIdealLayersNoiseFraction with --ideal-layers.
+  std::optional<double> noise;
+  /// Mean noise hits per sensor and event (with sensors, without --noise).
+  std::optional<double> noisePerSensor;
   double minPt = 0.15;
   /// The layers as ideal cylinders and disks, not their real sensors.
   bool idealLayers = false;
@@ -110,7 +127,18 @@ struct TrackmlSimulationSetup {
   static TrackmlEventSimulation::Config simulationConfig(
       const TrackmlSimOptions& opt) {
     TrackmlEventSimulation::Config cfg;
-    cfg.noiseFraction = opt.noise;
+    if (opt.noisePerSensor && (opt.noise || opt.idealLayers)) {
+      throw InputError(
+          "--noise-per-sensor: not with --noise or --ideal-layers (a rate "
+          "per sensor needs the sensors; give one noise model)");
+    }
+    if (opt.noise) {
+      cfg.noiseFraction = *opt.noise;
+    } else if (opt.idealLayers) {
+      cfg.noiseFraction = kIdealLayersNoiseFraction;
+    } else {
+      cfg.noisePerSensor = opt.noisePerSensor.value_or(kTrackmlNoisePerSensor);
+    }
     cfg.minPt = opt.minPt;
     cfg.seed = opt.seed;
     if (opt.followLoopers) {
@@ -164,8 +192,18 @@ void addSimulationOptions(CLI::App& command, TrackmlSimOptions& sim) {
       .add_option("--detectors-csv", sim.detectorsCsv,
                   "The TrackML detectors.csv(.gz): the sensors")
       ->capture_default_str();
-  command.add_option("--noise", sim.noise, "Fraction of noise hits per layer")
-      ->capture_default_str()
+  command
+      .add_option("--noise-per-sensor", sim.noisePerSensor,
+                  "Mean noise hits per sensor and event, a Poisson count per "
+                  "layer whatever the occupancy (default: " +
+                      shortNumber(kTrackmlNoisePerSensor) +
+                      ", the real files')")
+      ->check(finiteNumber(0.0, 1e3));
+  command
+      .add_option("--noise", sim.noise,
+                  "Noise as a fraction of all hits instead (the model before; "
+                  "default with --ideal-layers: " +
+                      shortNumber(kIdealLayersNoiseFraction) + ")")
       ->check(finiteNumber(0.0, 0.99));
   command
       .add_option("--min-pt", sim.minPt,
@@ -219,7 +257,8 @@ std::string formatDeviation(double deviation) {
 }
 
 void printValidation(const SimulationValidationTables& t,
-                     const ValidateOptions& opt) {
+                     const ValidateOptions& opt,
+                     const TrackmlEventSimulation::Config& simulation) {
   std::printf(
       "Hits per particle, real (nhits column) and simulated (mean of %zu "
       "simulation%s), %zu events, %zu particles (%zu outside the table):\n",
@@ -246,10 +285,12 @@ void printValidation(const SimulationValidationTables& t,
       "Bins with >= %zu particles: %zu, within %.1f %%: %zu; worst %s\n\n",
       opt.minParticles, agreement.bins, 100.0 * opt.tolerance, agreement.within,
       formatDeviation(agreement.worst).c_str());
-  std::printf(
-      "Hits per (volume, layer), real and simulated (noise fraction %.2f "
-      "included):\n",
-      opt.sim.noise);
+  const std::string noise =
+      simulation.noisePerSensor > 0.0
+          ? shortNumber(simulation.noisePerSensor) + " noise hits per sensor"
+          : "noise fraction " + shortNumber(simulation.noiseFraction);
+  std::printf("Hits per (volume, layer), real and simulated (%s included):\n",
+              noise.c_str());
   std::printf("%6s %6s %9s %9s %10s\n", "volume", "layer", "real", "simulated",
               "deviation");
   for (const LayerHitCount& l : t.layers) {
@@ -339,7 +380,7 @@ void runValidate(const ValidateOptions& opt) {
   for (const SimulationValidationTables& t : perEvent) {
     total.merge(t);
   }
-  printValidation(total, opt);
+  printValidation(total, opt, setup.simulation.config());
   if (!opt.output.empty()) {
     writeValidation(total, opt.output);
   }

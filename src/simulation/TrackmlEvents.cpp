@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 #include <numeric>
+#include <random>
 #include <stdexcept>
 #include <tuple>
 #include <unordered_map>
@@ -295,6 +296,17 @@ TrackmlEventSimulation::TrackmlEventSimulation(
     throw std::invalid_argument(
         "TrackmlEventSimulation: noiseFraction must be in [0, 1)");
   }
+  if (!(m_config.noisePerSensor >= 0.0 &&
+        std::isfinite(m_config.noisePerSensor))) {
+    throw std::invalid_argument(
+        "TrackmlEventSimulation: noisePerSensor must be finite and >= 0");
+  }
+  if (m_config.noisePerSensor > 0.0 &&
+      (!m_modules || m_config.noiseFraction > 0.0)) {
+    throw std::invalid_argument(
+        "TrackmlEventSimulation: noisePerSensor needs the module layout and "
+        "no noiseFraction");
+  }
   if (!(m_config.minPt >= 0.0)) {
     throw std::invalid_argument(
         "TrackmlEventSimulation: minPt must not be negative");
@@ -375,7 +387,22 @@ Event TrackmlEventSimulation::simulate(
     return *m_detector->findLayer(hit.detId);
   };
 
-  if (m_config.noiseFraction > 0.0) {
+  if (m_config.noisePerSensor > 0.0) {
+    // A rate per sensor, independent of the particles: the real files'
+    // noise count does not follow their occupancy. Own stream, as below.
+    RandomEngine noiseRng = makeEngine(m_config.seed, eventNumber,
+                                       RandomStream::eBackgroundSimulation);
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+      const auto [begin, end] =
+          m_modules->layerRange(static_cast<std::uint32_t>(l));
+      if (end == begin) {
+        continue;
+      }
+      std::poisson_distribution<std::size_t> count(
+          m_config.noisePerSensor * static_cast<double>(end - begin));
+      addNoise(l, count(noiseRng), noiseRng, event);
+    }
+  } else if (m_config.noiseFraction > 0.0) {
     // Noise has its own stream (no overlay in this mode), so that the
     // particle hits do not change with the noise fraction.
     RandomEngine noiseRng = makeEngine(m_config.seed, eventNumber,

@@ -72,7 +72,8 @@ TEST(FieldArcLength, ZIsLinearInTheMappedArcLength) {
     }
   }
   ASSERT_GT(particles.size(), 50u);
-  const Event event = test::simulateTrackml(particles, 0.0);
+  const Event event =
+      test::simulateTrackml(particles, test::SampleNoise::eNone);
   std::map<std::uint64_t, std::vector<HitIndex>> byParticle;
   for (HitIndex h = 0; h < event.hits.size(); ++h) {
     byParticle[event.truth[h].particleId].push_back(h);

@@ -26,7 +26,7 @@ namespace conftrack {
 namespace {
 
 TEST(TrackmlHitClaims, EveryUsedHitIsOnATrack) {
-  // Event 1001 with 17 % noise, the shipped chain without the merging
+  // Event 1001 with noise, the shipped chain without the merging
   // (whose dropped looper turns keep their hits on purpose). A build
   // step's completion (inward extension, hole filling) claims hits for a
   // new track at once; when a better candidate later replaced that track
@@ -35,7 +35,8 @@ TEST(TrackmlHitClaims, EveryUsedHitIsOnATrack) {
   // most of them the second hit of a layer it crosses). Now they are
   // released with the clone: the hits used at the end equal those on
   // tracks.
-  const Event event = test::simulateTrackml(test::event1001Particles(), 0.17);
+  const Event event = test::simulateTrackml(test::event1001Particles(),
+                                            test::SampleNoise::eReal);
   const Detector detector = loadDetector("trackml");
   FinderConfig chain =
       readReconstructionConfig(resolveChainPath("trackml"), detector).chain;
@@ -71,7 +72,7 @@ TEST(TrackmlHitClaims, SteepLowMomentumTracksTakeBothHitsOfAnOverlap) {
   // resolution). Guarded at 328.
   const std::vector<Particle> forward = test::forwardLowPtParticles();
   ASSERT_GT(forward.size(), 300u);
-  const Event event = test::simulateTrackml(forward, 0.0);
+  const Event event = test::simulateTrackml(forward, test::SampleNoise::eNone);
   const Detector detector = loadDetector("trackml");
   const auto pixelBarrel = detector.findSubdetector("PixelBarrel");
   ASSERT_TRUE(pixelBarrel.has_value());
@@ -114,21 +115,22 @@ TEST(TrackmlHitClaims, SteepLowMomentumTracksTakeBothHitsOfAnOverlap) {
 }
 
 TEST(TrackmlHitClaims, SharedHitResolutionGivesHitsBackToTheirTracks) {
-  // Event 1001 at the HL-LHC length (sigma_z 50 mm) with 17 % noise, the
+  // Event 1001 at the HL-LHC length (sigma_z 50 mm) with noise, the
   // shipped reconstruction (fit and selection) with and without the
   // finder's shared-hit resolution (final_min_unique_hits). Without it,
   // short tracks through several real ones keep hits of those (often the
   // second hit of an overlap) until the selection drops them, and the
   // hits end on no track. Counted: hits of each kept track's majority
-  // particle. Measured 66,850 with the resolution (and its trimming,
-  // final_trim_shared_hits) against 66,522 without since the simulation
-  // placed the layers' material (docs/validation.md items 11, 12; 68,187
-  // and 67,840 before, 66,669 and 66,383 before the helix changes of stop
-  // 39). Guarded at +150.
+  // particle. Measured 66,664 with the resolution (and its trimming,
+  // final_trim_shared_hits) against 66,336 without since the noise is the
+  // real files' rate per sensor (66,850 and 66,522 with 17 % noise; the
+  // same since the simulation placed the layers' material (docs/validation.md
+  // items 11, 12; 68,187 and 67,840 before, 66,669 and 66,383 before the helix
+  // changes of stop 39). Guarded at +150.
   const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
   ASSERT_NE(hllhc, nullptr);
-  const Event event =
-      test::simulateTrackml(test::event1001Particles(), 0.17, hllhc->config);
+  const Event event = test::simulateTrackml(
+      test::event1001Particles(), test::SampleNoise::eReal, hllhc->config);
   const Detector detector = loadDetector("trackml");
   auto ownHits = [&](std::uint32_t minUnique) {
     Reconstruction::Config config =

@@ -87,12 +87,16 @@ inline std::vector<Particle> forwardLowPtParticles() {
   return forward;
 }
 
+/// Noise in a TrackML-like sample: none, or the real files' rate per
+/// sensor (kTrackmlNoisePerSensor), as `conftrack simulate-trackml` adds.
+enum class SampleNoise { eNone, eReal };
+
 /// `particles` through the module-level simulation of the TrackML
 /// detector as `conftrack simulate-trackml` runs it (the real sensors of
-/// detectors.csv, pT > 0.15 GeV, seed 1) with `noiseFraction` and, where
-/// given, the interactions moved to `region`.
+/// detectors.csv, pT > 0.15 GeV, seed 1) with `noise` and, where given,
+/// the interactions moved to `region`.
 inline Event simulateTrackml(
-    const std::vector<Particle>& particles, double noiseFraction,
+    const std::vector<Particle>& particles, SampleNoise noise,
     std::optional<LuminousRegion::Config> region = {}) {
   static const fs::path modulesFile = kTrackmlData / "detectors.csv.gz";
   static const std::vector<TrackmlModule> modules =
@@ -101,7 +105,8 @@ inline Event simulateTrackml(
   static const auto sensors = std::make_shared<const ModuleLayout>(
       buildTrackmlModuleLayout(modules, simDetector));
   TrackmlEventSimulation::Config simConfig;
-  simConfig.noiseFraction = noiseFraction;
+  simConfig.noisePerSensor =
+      noise == SampleNoise::eReal ? kTrackmlNoisePerSensor : 0.0;
   simConfig.minPt = 0.15;
   simConfig.seed = 1;
   simConfig.luminousRegion = region;

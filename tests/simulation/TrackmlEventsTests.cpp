@@ -290,6 +290,96 @@ TEST(TrackmlEvents, NoiseAndPtCut) {
                std::invalid_argument);
 }
 
+/// The real files' noise is a count per sensor, not a share of the hits
+/// (kTrackmlNoisePerSensor): the same with 10 or 200 particles, Poisson
+/// about rate x sensors from event to event, each layer's in proportion
+/// to its sensors.
+TEST(TrackmlEvents, NoisePerSensorIgnoresTheOccupancy) {
+  const std::size_t sensors = moduleLayout()->modules().size();
+  ASSERT_EQ(sensors, 18728u);
+  std::vector<Particle> particles;
+  for (int k = 0; k < 200; ++k) {
+    particles.push_back(makeParticle(k + 1, 0.5 + 0.05 * k, -2.0 + 0.02 * k,
+                                     0.1 * k, k % 2 == 0 ? 1.0 : -1.0));
+  }
+  const std::vector<Particle> few(particles.begin(), particles.begin() + 10);
+  TrackmlEventSimulation::Config config;
+  config.noisePerSensor = 0.5;
+  const TrackmlEventSimulation sim(trackmlDetector(), moduleLayout(), config);
+  auto noiseHits = [](const Event& event) {
+    std::vector<std::size_t> noise;
+    for (std::size_t i = 0; i < event.truth.size(); ++i) {
+      if (event.truth[i].particleId == 0) {
+        noise.push_back(i);
+      }
+    }
+    return noise;
+  };
+  // Its own stream: the same noise hits whatever the particles.
+  const Event busy = sim.simulate(3, particles);
+  const Event quiet = sim.simulate(3, few);
+  const std::vector<std::size_t> busyNoise = noiseHits(busy);
+  const std::vector<std::size_t> quietNoise = noiseHits(quiet);
+  ASSERT_EQ(busyNoise.size(), quietNoise.size());
+  EXPECT_EQ(busy.hits[busyNoise.front()].position,
+            quiet.hits[quietNoise.front()].position);
+  EXPECT_GT(busy.hits.size() - busyNoise.size(),
+            5 * (quiet.hits.size() - quietNoise.size()));
+  // Poisson about 0.5 x 18,728 = 9,364 (sigma 97) in each event; the
+  // layers in proportion to their sensors: the pixel barrel's innermost
+  // layer (volume 8, layer 2) holds 224 / 18,728 of them.
+  const std::vector<SensitiveLayer>& layers = trackmlDetector().layers();
+  std::size_t inner = layers.size();
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    if (layers[l].trackmlVolume == 8 && layers[l].trackmlLayer == 2) {
+      inner = l;
+    }
+  }
+  ASSERT_LT(inner, layers.size());
+  const auto [innerBegin, innerEnd] =
+      moduleLayout()->layerRange(static_cast<std::uint32_t>(inner));
+  ASSERT_EQ(innerEnd - innerBegin, 224u);
+  const double mean = 0.5 * static_cast<double>(sensors);
+  double sum = 0.0;
+  double sumSquares = 0.0;
+  std::size_t innermost = 0;
+  std::size_t total = 0;
+  const int events = 40;
+  for (int e = 0; e < events; ++e) {
+    const Event event = sim.simulate(100 + e, few);
+    const std::vector<std::size_t> noise = noiseHits(event);
+    const double n = static_cast<double>(noise.size());
+    sum += n;
+    sumSquares += n * n;
+    for (std::size_t i : noise) {
+      innermost += event.hits[i].detId.sameLayer(layers[inner].id);
+    }
+    total += noise.size();
+  }
+  const double average = sum / events;
+  const double spread = std::sqrt(sumSquares / events - average * average);
+  // 5 sigma of the mean of 40 Poisson counts; the spread within 35 %
+  // (40 events), far from the 1,300 of a share of the hits.
+  EXPECT_NEAR(average, mean, 5.0 * std::sqrt(mean / events));
+  EXPECT_NEAR(spread, std::sqrt(mean), 0.35 * std::sqrt(mean));
+  const double innerShare = 224.0 / static_cast<double>(sensors);
+  EXPECT_NEAR(static_cast<double>(innermost) / static_cast<double>(total),
+              innerShare,
+              5.0 * std::sqrt(innerShare / static_cast<double>(total)));
+  // A rate needs sensors and is one noise model.
+  EXPECT_THROW(TrackmlEventSimulation(trackmlDetector(), nullptr, config),
+               std::invalid_argument);
+  config.noiseFraction = 0.1;
+  EXPECT_THROW(
+      TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config),
+      std::invalid_argument);
+  config.noiseFraction = 0.0;
+  config.noisePerSensor = -1.0;
+  EXPECT_THROW(
+      TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config),
+      std::invalid_argument);
+}
+
 /// The particles of a shipped Kaggle event, read here without io (a few
 /// columns suffice); `realReconstructable` counts those with nhits >= 4.
 std::vector<Particle> kaggleParticles(

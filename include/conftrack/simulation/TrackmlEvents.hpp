@@ -47,6 +47,14 @@ double trackmlOrderWeight(std::uint32_t ihit, std::uint32_t nhits);
 /// show it (trackmlSimulatorConfig; docs/validation.md items 3, 11, 12).
 inline constexpr double kTrackmlInteractionLengthX0 = 1.3;
 
+/// Mean noise hits per sensor and event of the Kaggle events: their hits
+/// without a particle (hits less the particles' nhits) number 17,470,
+/// 17,520, 17,805, 17,704 and 17,774 in events 1001-1010 (mean 17,655 on
+/// 18,728 sensors), a spread of 140 where a Poisson count has 133 and a
+/// fixed fraction of each event's hits would have 1,300 (15,600-19,000):
+/// the noise does not follow the occupancy (docs/validation.md item 4).
+inline constexpr double kTrackmlNoisePerSensor = 0.943;
+
 /// The Simulator settings of TrackML-like events: the defaults with
 /// maxTurns = 0.5 (the loop protection of the ACTS propagator that
 /// simulated the Kaggle events: its path limit is half the helix
@@ -163,10 +171,18 @@ class TrackmlEventSimulation {
     /// Kaggle events differ from the simulation by about the same few per
     /// cent on every layer, with noise in proportion to each layer's hits
     /// or area by up to 30-60 % (docs/validation.md). The Kaggle events
-    /// have f = 16-19 % overall. Without a module layout: on every ideal
+    /// have f = 16-19 % overall, but as a count that does not follow the
+    /// occupancy: noisePerSensor describes them. Without a module layout:
+    /// on every ideal
     /// layer, f / (1 - f) x its particle hits, uniform in phi and z
     /// (cylinders) or in area (disks). In [0, 1).
     double noiseFraction = 0.0;
+    /// Noise as a rate: on each layer a Poisson number of noise hits of
+    /// mean noisePerSensor x its sensors, each on a sensor drawn uniformly
+    /// and uniform on it, whatever the event's occupancy (the real files:
+    /// kTrackmlNoisePerSensor). Needs the module layout; exclusive with
+    /// noiseFraction. >= 0.
+    double noisePerSensor = 0.0;
     /// The TrackML simulation's pT cut [GeV]: a particle ends after the
     /// first crossing at which its transverse momentum is below it
     /// (Simulator::Config::minTransverseMomentum), so one produced below
@@ -190,8 +206,10 @@ class TrackmlEventSimulation {
 
   /// `modules` (may be null: ideal layers) holds the sensors of `detector`;
   /// the detector must outlive this. Throws std::invalid_argument for a
-  /// noise fraction outside [0, 1), a negative minPt, or a layout built for
-  /// another detector; InputError for a bad luminous region.
+  /// noise fraction outside [0, 1), a negative or non-finite noise rate, a
+  /// noise rate without a layout or together with a noise fraction, a
+  /// negative minPt, or a layout built for another detector; InputError
+  /// for a bad luminous region.
   TrackmlEventSimulation(const Detector& detector,
                          std::shared_ptr<const ModuleLayout> modules,
                          Config config);
