@@ -14,7 +14,9 @@ Usage (docs/validation.md):
   conftrack reconstruct -i EVENTS --detector trackml -o TRACKS
   scripts/field_profile.py EVENTS TRACKS
 Prints the median ratio in bins of |z| of the middle hit, for tracks whose
-innermost curvature corresponds to pT of about 0.1-1.8 GeV at 2 T.
+innermost curvature corresponds to pT of about 0.1-1.8 GeV at 2 T; with
+--by-radius, in bins of |z| and of r of the middle hit (the field's radial
+dependence; docs/validation.md item 9).
 """
 
 import argparse
@@ -33,6 +35,7 @@ MIN_RADIAL_GAP_MM = 60.0
 MIN_CURVATURE = 1.0 / 3000.0
 MAX_CURVATURE = 1.0 / 200.0
 Z_EDGES_MM = [0, 300, 600, 900, 1200, 1500, 1800, 2100, 2400, 2700, 3000]
+R_EDGES_MM = [0, 300, 500, 700, 1100]
 
 
 def triplet_curvature(a, b, c):
@@ -45,20 +48,21 @@ def triplet_curvature(a, b, c):
 
 
 def track_ratios(hits):
-    """(|z|, ratio) of each later triplet of one track's hits."""
+    """(|z|, r, ratio) of each later triplet of one track's hits, at its
+    middle hit."""
     hits = hits.sort_values("r")
     kept = []
     last_r = -np.inf
     for x, y, z, r in zip(hits.x, hits.y, hits.z, hits.r):
         if r - last_r >= MIN_RADIAL_GAP_MM:
-            kept.append((x, y, z))
+            kept.append((x, y, z, r))
             last_r = r
     if len(kept) < 5:
         return []
     inner = triplet_curvature(kept[0], kept[1], kept[2])
     if not MIN_CURVATURE <= abs(inner) <= MAX_CURVATURE:
         return []
-    return [(abs(kept[i + 1][2]),
+    return [(abs(kept[i + 1][2]), kept[i + 1][3],
              triplet_curvature(kept[i], kept[i + 1], kept[i + 2]) / inner)
             for i in range(1, len(kept) - 2)]
 
@@ -71,7 +75,7 @@ def event_files(folder, suffix):
 
 
 def measure(events):
-    """(|z|, ratio) of every later triplet of the tracks of `events`, pairs
+    """(|z|, r, ratio) of every later triplet of the tracks of `events`, pairs
     of (hits, track_hits) DataFrames with the columns of the hits and
     track-hits files."""
     rows = []
@@ -82,7 +86,7 @@ def measure(events):
         for _, track in on_tracks.groupby("track_id"):
             if len(track) >= 8:
                 rows.extend(track_ratios(track))
-    return pd.DataFrame(rows, columns=["abs_z", "ratio"])
+    return pd.DataFrame(rows, columns=["abs_z", "r", "ratio"])
 
 
 def profile(table):
@@ -93,11 +97,32 @@ def profile(table):
             for interval, group in table.groupby(bins, observed=True)]
 
 
+def print_by_radius(table):
+    """Median ratio (triplets) in bins of |z| (rows) and r (columns)."""
+    z_bins = pd.cut(table.abs_z, Z_EDGES_MM)
+    r_bins = pd.cut(table.r, R_EDGES_MM)
+    print("\nby |z| and r of the middle hit: median ratio (triplets)")
+    print("   |z| [mm]" + "".join(
+        f"{f'r {R_EDGES_MM[i]}-{R_EDGES_MM[i + 1]}':>18}"
+        for i in range(len(R_EDGES_MM) - 1)))
+    cells = table.groupby([z_bins, r_bins], observed=True).ratio
+    medians, counts = cells.median(), cells.size()
+    for interval in z_bins.cat.categories:
+        row = f"{int(interval.left):5d}-{int(interval.right):<5d}"
+        for r_interval in r_bins.cat.categories:
+            key = (interval, r_interval)
+            row += (f"{medians[key]:10.3f} ({counts[key]:5d})"
+                    if key in counts.index else f"{'—':>18}")
+        print(row)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("events", help="folder with eventNNNNNNNNN-hits.csv")
     parser.add_argument("tracks",
                         help="folder with eventNNNNNNNNN-track-hits.csv")
+    parser.add_argument("--by-radius", action="store_true",
+                        help="median ratio (triplets) in bins of |z| and r")
     args = parser.parse_args()
     hit_files = event_files(args.events, "hits")
     track_files = event_files(args.tracks, "track-hits")
@@ -112,6 +137,8 @@ def main():
     print("   |z| [mm]   triplets  median ratio")
     for low, high, count, median in profile(table):
         print(f"{low:5d}-{high:<5d}{count:10d}  {median:12.3f}")
+    if args.by_radius:
+        print_by_radius(table)
 
 
 if __name__ == "__main__":
