@@ -83,6 +83,14 @@ Simulator::Simulator(const Detector& detector, const Config& config,
     throw std::invalid_argument(
         "Simulator: innerSupportMinRadius must be >= 0");
   }
+  if (!(m_config.diskInnerRingX0 >= 0.0 &&
+        m_config.diskInnerRingRadius >= 0.0 &&
+        std::isfinite(m_config.diskInnerRingX0) &&
+        std::isfinite(m_config.diskInnerRingRadius))) {
+    throw std::invalid_argument(
+        "Simulator: diskInnerRingX0 and diskInnerRingRadius must be finite "
+        "and >= 0");
+  }
   if (!(m_config.interactionLengthX0 > 0.0)) {
     throw std::invalid_argument("Simulator: interactionLengthX0 must be > 0");
   }
@@ -430,6 +438,11 @@ double Simulator::crossModules(
                                     : std::numeric_limits<double>::infinity();
   }
   bool supportCrossed = !placed;
+  // Config::diskInnerRingX0: only on disks, for sensors in front of the
+  // layer surface.
+  bool innerRing = layer.isDisk() && m_config.diskInnerRingX0 > 0.0;
+  const double ringRadius2 =
+      m_config.diskInnerRingRadius * m_config.diskInnerRingRadius;
   const double layerPhi =
       m_neighbourhood ? std::atan2(layerPosition.y(), layerPosition.x()) : 0.0;
   // Below the pT floor the particle ends in the first sensor it meets
@@ -503,7 +516,12 @@ double Simulator::crossModules(
     const double cosIncidence =
         std::max(std::abs(momentum.normalized().dot(module.normal())),
                  m_config.minCosIncidence);
-    const double sensorX0 = module.thicknessX0 / cosIncidence;
+    double sensorX0 = module.thicknessX0 / cosIncidence;
+    if (innerRing && truePosition.head<2>().squaredNorm() < ringRadius2 &&
+        std::abs(module.center.z()) < std::abs(layerPosition.z())) {
+      sensorX0 += m_config.diskInnerRingX0 / cosIncidence;
+      innerRing = false;  // on the first such sensor crossed only
+    }
     xOverX0 += sensorX0;
     recordHit(crossing, module, truePosition, momentum, cosIncidence);
     if (placed && interacts(sensorX0, isHadron, rng)) {

@@ -206,6 +206,12 @@ Simulator::Config trackmlSimulatorConfig() {
   // real files have the hits of at most the three that a lookup of one
   // azimuthal bin and its neighbours returns (docs/validation.md).
   config.diskPhiNeighbourhood = true;
+  // The real files' secondaries are produced 4.7 times as often per
+  // crossing on the pixel disks' front sensors below r = 35 mm as
+  // elsewhere on the disks, and 3.3 % of the forward particles that cross
+  // there end after exactly one hit (docs/validation.md item 13).
+  config.diskInnerRingX0 = kTrackmlDiskInnerRingX0;
+  config.diskInnerRingRadius = kTrackmlDiskInnerRingRadius;
   return config;
 }
 

@@ -59,9 +59,11 @@ Found promptFound(const Event& event, const FindingResult& result,
 
 TEST(TrackmlVertexRegions, FreeHitPrepassFindsTheVerticesTheFirstMissed) {
   // The shipped chain's PixelPrompt alone, and followed by PixelPrompt2
-  // (the same cuts, vertex_prepass_free_hits): measured 2429 prompt
-  // particles found (pixel tracks only, no strip extension), 26 of them
-  // more than 5 mm from the event's regions, then 2475 and 62 (2432, 26,
+  // (the same cuts, vertex_prepass_free_hits): measured 2392 prompt
+  // particles found (pixel tracks only, no strip extension), 19 of them
+  // more than 5 mm from the event's regions, then 2449 and 61 (2429, 26,
+  // 2475 and 62 before the pixel disks' inner ring of docs/validation.md
+  // item 13; 2432, 26,
   // 2475 and 60 with 17 % noise instead of the real files' rate per
   // sensor; 2480 and
   // 34, 2526 and 71 before the simulation placed the layers' material where

@@ -434,6 +434,107 @@ TEST(ModuleSimulation, PlacedSupportOfADiskLiesBetweenItsSensorPlanes) {
   expectFraction(placed[1], sensor + (1.0 - sensor) * layer, kCount);
 }
 
+TEST(ModuleSimulation, DiskInnerRingLoadsTheFirstFrontSensorOnly) {
+  // A disk at z = 300 mm whose sensors carry no support: two overlapping
+  // sensors in front of its surface (z = 297.5 and 298 mm) and one behind
+  // (302 mm) about x = 60 mm, one behind alone about x = 130 mm; a second
+  // disk at 400 mm with one large sensor, which every pion that goes on
+  // crosses. The inner ring's material (0.3 X0 here) loads the first
+  // sensor crossed in front of the surface below its radius, after that
+  // sensor's hit: pions through the overlap end with exactly one hit that
+  // often, those through the lone sensor behind it never.
+  const std::string text =
+      "[detector]\nname = \"Toy\"\nmodel = \"toy\"\nbz_T = 2.0\n"
+      "envelope_r_mm = 900.0\nenvelope_z_mm = 4000.0\n\n"
+      "[[subdetector]]\nname = \"Disk\"\nkind = \"endcap\"\n"
+      "  [[subdetector.layer]]\n  name = \"D0\"\n  z_mm = 300.0\n"
+      "  r_min_mm = 20.0\n  r_max_mm = 200.0\n  x_over_x0 = 0.01\n"
+      "  sigma_rphi_um = 10.0\n  sigma_r_um = 20.0\n"
+      "  [[subdetector.layer]]\n  name = \"D1\"\n  z_mm = 400.0\n"
+      "  r_min_mm = 20.0\n  r_max_mm = 250.0\n  x_over_x0 = 0.01\n"
+      "  sigma_rphi_um = 10.0\n  sigma_r_um = 20.0\n";
+  const Detector detector = parseDetector(text, "toy.toml");
+  auto layerAt = [&](double z) {
+    std::uint32_t l = 0;
+    while (std::abs(detector.layers()[l].z() - z) > 1.0) {
+      ++l;
+    }
+    return l;
+  };
+  auto sensor = [](std::uint32_t layer, std::uint32_t id, Vector3 centre,
+                   double halfY, double halfX) {
+    PlanarModule m;
+    m.layer = layer;
+    m.module = id;
+    m.center = centre;
+    m.rotation.col(0) = Vector3::UnitY();
+    m.rotation.col(1) = Vector3::UnitX();
+    m.rotation.col(2) = Vector3::UnitZ();
+    m.minHalfU = m.maxHalfU = halfY;
+    m.halfV = halfX;
+    m.thickness = 0.2;
+    m.thicknessX0 = 0.002;
+    m.sigmaU = 0.01;
+    m.sigmaV = 0.05;
+    return m;
+  };
+  const std::uint32_t d0 = layerAt(300.0);
+  const std::uint32_t d1 = layerAt(400.0);
+  const std::vector<PlanarModule> modules = {
+      sensor(d0, 1, Vector3(60.0, -18.0, 297.5), 20.0, 30.0),
+      sensor(d0, 2, Vector3(60.0, 18.0, 298.0), 20.0, 30.0),
+      sensor(d0, 3, Vector3(60.0, 0.0, 302.0), 20.0, 30.0),
+      sensor(d0, 4, Vector3(130.0, 0.0, 302.0), 20.0, 30.0),
+      sensor(d1, 1, Vector3(110.0, 0.0, 400.0), 80.0, 80.0)};
+  const std::vector<double> support(detector.layers().size(), 0.0);
+  const auto layout =
+      std::make_shared<const ModuleLayout>(detector, modules, support);
+  Simulator::Config config = test::idealSimulatorConfig();
+  config.hadronicInteractions = true;
+  config.interactionLengthX0 = 1.0;
+  config.placedSupport = true;
+  config.diskInnerRingX0 = 0.3;
+  config.diskInnerRingRadius = 150.0;
+  constexpr int kCount = 4000;
+  // Through the overlap at (60, 0, 300) mm (r / z = 0.2) and through the
+  // lone back sensor at (130, 0, 300) mm; +-0.01 rad in phi.
+  std::vector<Particle> overlap;
+  std::vector<Particle> lone;
+  for (int k = 0; k < kCount; ++k) {
+    const double phi = 5e-6 * (k - kCount / 2);
+    overlap.push_back(particle(k + 1, 10.0, phi, std::asinh(5.0)));
+    lone.push_back(particle(k + 1, 10.0, phi, std::asinh(300.0 / 130.0)));
+  }
+  // Fractions of pions with 1, 2, ... hits.
+  auto hitCounts = [&](const Simulator::Config& c,
+                       const std::vector<Particle>& particles) {
+    Event event;
+    RandomEngine rng(5);
+    Simulator(detector, c, layout).simulate(particles, rng, event);
+    std::vector<double> fraction(6, 0.0);
+    for (const Particle& p : event.particles) {
+      fraction[std::min<std::uint32_t>(p.nHits, 5)] += 1.0 / kCount;
+    }
+    return fraction;
+  };
+  const double secant = std::sqrt(26.0) / 5.0;
+  const double silicon = -std::expm1(-0.002 * secant);
+  const double loaded = -std::expm1(-0.302 * secant);
+  const std::vector<double> ring = hitCounts(config, overlap);
+  EXPECT_EQ(ring[0], 0.0);
+  expectFraction(ring[1], loaded, kCount);
+  // The second front sensor carries its silicon only.
+  expectFraction(ring[2], (1.0 - loaded) * silicon, kCount);
+  const std::vector<double> behind = hitCounts(config, lone);
+  EXPECT_EQ(behind[0], 0.0);
+  EXPECT_LT(behind[1], 0.01);  // its silicon only: 0.2 %
+  // Beyond the ring's radius, none.
+  config.diskInnerRingRadius = 50.0;
+  EXPECT_LT(hitCounts(config, overlap)[1], 0.01);
+  config.diskInnerRingX0 = -0.1;
+  EXPECT_THROW(Simulator(detector, config, layout), std::invalid_argument);
+}
+
 TEST(ModuleSimulation, NoHitAtGrazingIncidenceBelowTheCut) {
   // eta = 3.7 through a barrel sensor at r = 100 mm: cos(alpha) = 0.049.
   const Detector detector = barrels({100.0}, 3000.0, 0.01);

@@ -47,6 +47,19 @@ double trackmlOrderWeight(std::uint32_t ihit, std::uint32_t nhits);
 /// show it (trackmlSimulatorConfig; docs/validation.md items 3, 11, 12).
 inline constexpr double kTrackmlInteractionLengthX0 = 1.3;
 
+/// Extra material of the first pixel-disk sensor that a particle crosses
+/// in front of a disk's surface below kTrackmlDiskInnerRingRadius [X0 at
+/// normal incidence] (Simulator::Config::diskInnerRingX0). The real files'
+/// production vertices lie there, on the front sensors' planes at r = 30-35
+/// mm, 4.7 times as often per crossing as elsewhere on the disks (their
+/// back sensors and supports at those radii: as elsewhere), and 3.3 % of
+/// the prompt particles above 0.3 GeV at abs(eta) 3.5-4, which cross the
+/// disks there, end after exactly one hit (the simulation without it: 0.45
+/// %; with it: 3.2 %; docs/validation.md item 13).
+inline constexpr double kTrackmlDiskInnerRingX0 = 0.045;
+/// See kTrackmlDiskInnerRingX0 [mm].
+inline constexpr double kTrackmlDiskInnerRingRadius = 35.0 * units::mm;
+
 /// Mean noise hits per sensor and event of the Kaggle events: their hits
 /// without a particle (hits less the particles' nhits) number 17,470,
 /// 17,520, 17,805, 17,704 and 17,774 in events 1001-1010 (mean 17,655 on
