@@ -186,9 +186,8 @@ class TrackmlEventSimulation {
     /// or area by up to 30-60 % (docs/validation.md). The Kaggle events
     /// have f = 16-19 % overall, but as a count that does not follow the
     /// occupancy: noisePerSensor describes them. Without a module layout:
-    /// on every ideal
-    /// layer, f / (1 - f) x its particle hits, uniform in phi and z
-    /// (cylinders) or in area (disks). In [0, 1).
+    /// on every ideal layer, f / (1 - f) x its particle hits, uniform in
+    /// phi and z (cylinders) or in area (disks). In [0, 1).
     double noiseFraction = 0.0;
     /// Noise as a rate: on each layer a Poisson number of noise hits of
     /// mean noisePerSensor x its sensors, each on a sensor drawn uniformly
