@@ -36,6 +36,7 @@ Reconstruction::Reconstruction(const Detector& detector, Config config,
     : m_config(std::move(config)),
       m_finder(detector, {m_config.chain}),
       m_fitter(detector, m_config.fitter, std::move(sensors)),
+      m_merger(m_fitter, m_config.merger),
       m_selector(selectorConfig(m_config)) {}
 
 Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
@@ -62,6 +63,13 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
     }
     // The candidates are no longer needed: free them before the selection.
     std::vector<FoundTrack>().swap(found.tracks);
+    const auto mergeStart = Clock::now();
+    SplitTrackMerger::Result merged = m_merger.run(hits, std::move(tracks));
+    tracks = std::move(merged.tracks);
+    r.splitMerges = merged.merges;
+    r.fittingMs +=
+        std::chrono::duration<double, std::milli>(Clock::now() - mergeStart)
+            .count();
   } else {
     tracks.reserve(found.tracks.size());
     for (const FoundTrack& f : found.tracks) {

@@ -55,6 +55,32 @@ TrackSelector::Config readSelection(const ConfigTable& t,
   return c;
 }
 
+/// The [split_merging] table over `defaults` (SplitTrackMerger::Config),
+/// checked by findProblem with the message located at the key.
+SplitTrackMerger::Config readSplitMerging(const ConfigTable& t,
+                                          SplitTrackMerger::Config c) {
+  c.enabled = t.getBool("enabled", c.enabled);
+  c.maxParameterChi2 = t.getDouble("max_parameter_chi2", c.maxParameterChi2,
+                                   Range::positiveFinite());
+  c.maxTanLambdaDifference =
+      t.getDouble("max_tan_lambda_difference", c.maxTanLambdaDifference,
+                  Range::positiveFinite());
+  c.maxPhi0Difference = t.getDouble("max_phi0_difference", c.maxPhi0Difference,
+                                    Range::positiveFinite());
+  c.maxSameLayerDistance =
+      t.getDouble("max_same_layer_distance_mm",
+                  c.maxSameLayerDistance / units::mm, Range::positiveFinite()) *
+      units::mm;
+  c.maxChi2Ratio =
+      t.getDouble("max_chi2_ratio", c.maxChi2Ratio, Range::positiveFinite());
+  t.rejectUnknownKeys();
+  if (std::optional<SplitTrackMerger::Problem> p =
+          SplitTrackMerger::findProblem(c)) {
+    t.fail(p->key, p->what);
+  }
+  return c;
+}
+
 }  // namespace
 
 Reconstruction::Config readReconstructionTable(const ConfigTable& root,
@@ -63,6 +89,9 @@ Reconstruction::Config readReconstructionTable(const ConfigTable& root,
   config.chain = readChainTable(root, detector);
   if (std::optional<ConfigTable> selection = root.findTable("selection")) {
     config.selector = readSelection(*selection, config.selector, config.chain);
+  }
+  if (std::optional<ConfigTable> merging = root.findTable("split_merging")) {
+    config.merger = readSplitMerging(*merging, config.merger);
   }
   return config;
 }

@@ -11,6 +11,7 @@
 #include "conftrack/geometry/ModuleLayout.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
+#include "conftrack/reconstruction/selection/SplitTrackMerger.hpp"
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"
 
 #include <filesystem>
@@ -37,6 +38,9 @@ class Reconstruction {
     FinderConfig chain;
     KalmanFitter::Config fitter;
     TrackSelector::Config selector;
+    /// Merging split tracks after the fit, before the selection (chain
+    /// file [split_merging]; off by default).
+    SplitTrackMerger::Config merger;
     /// Fit the candidates; without it the tracks carry only the finder's
     /// estimates and the selection keeps unfitted tracks.
     bool fit = true;
@@ -51,7 +55,10 @@ class Reconstruction {
     std::vector<std::pair<double, double>> vertexRegions;
     std::size_t candidates = 0;
     std::size_t fitFailures = 0;
+    /// Pairs of pieces merged after the fit (SplitTrackMerger).
+    std::size_t splitMerges = 0;
     double findingMs = 0.0;
+    /// The fit, with the refits of the split-track merging.
     double fittingMs = 0.0;
     double selectionMs = 0.0;
   };
@@ -73,6 +80,7 @@ class Reconstruction {
   Config m_config;
   ConformalTrackFinder m_finder;
   KalmanFitter m_fitter;
+  SplitTrackMerger m_merger;
   TrackSelector m_selector;
 };
 

@@ -233,9 +233,11 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
   if (prepass) {
     cfg.vertexPrepass = readVertexPrepass(*prepass, detector);
   }
-  // [selection] belongs to the track selection of the same file
-  // (readReconstructionConfig); the finder has no use for it.
+  // [selection] and [split_merging] belong to the track selection and the
+  // merging after the fit of the same file (readReconstructionConfig); the
+  // finder has no use for them.
   (void)root.findTable("selection");
+  (void)root.findTable("split_merging");
   std::vector<ConfigTable> steps = root.getTableArray("step");
   for (const ConfigTable& step : steps) {
     cfg.steps.push_back(readStep(step, detector));
