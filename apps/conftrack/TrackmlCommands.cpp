@@ -24,7 +24,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "Commands.hpp"
@@ -39,11 +38,12 @@ namespace {
 /// real files' mean share of hits without a particle (16-19 %).
 constexpr double kIdealLayersNoiseFraction = 0.17;
 
-/// A number as the help text shows it ("0.943", not "0.943000").
-std::string shortNumber(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
+/// A number as tables and help texts show it ("0.943", not "0.943000";
+/// "inf").
+std::string formatNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, std::isinf(value) ? "inf" : "%g", value);
+  return text;
 }
 
 struct ScoreOptions {
@@ -196,14 +196,14 @@ void addSimulationOptions(CLI::App& command, TrackmlSimOptions& sim) {
       .add_option("--noise-per-sensor", sim.noisePerSensor,
                   "Mean noise hits per sensor and event, a Poisson count per "
                   "layer whatever the occupancy (default: " +
-                      shortNumber(kTrackmlNoisePerSensor) +
+                      formatNumber(kTrackmlNoisePerSensor) +
                       ", the real files')")
       ->check(finiteNumber(0.0, 1e3));
   command
       .add_option("--noise", sim.noise,
                   "Noise as a fraction of all hits instead (the model before; "
                   "default with --ideal-layers: " +
-                      shortNumber(kIdealLayersNoiseFraction) + ")")
+                      formatNumber(kIdealLayersNoiseFraction) + ")")
       ->check(finiteNumber(0.0, 0.99));
   command
       .add_option("--min-pt", sim.minPt,
@@ -241,12 +241,6 @@ struct ValidateOptions {
   std::string output;
 };
 
-std::string formatEdge(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, std::isinf(value) ? "inf" : "%g", value);
-  return text;
-}
-
 std::string formatDeviation(double deviation) {
   if (std::isnan(deviation)) {
     return "-";
@@ -270,9 +264,9 @@ void printValidation(const SimulationValidationTables& t,
     if (b.particles == 0) {
       continue;
     }
-    const std::string pt = formatEdge(b.ptMin) + "-" + formatEdge(b.ptMax);
+    const std::string pt = formatNumber(b.ptMin) + "-" + formatNumber(b.ptMax);
     const std::string eta =
-        formatEdge(b.absEtaMin) + "-" + formatEdge(b.absEtaMax);
+        formatNumber(b.absEtaMin) + "-" + formatNumber(b.absEtaMax);
     std::printf("%-12s %-10s %-9s %9zu %8.2f %9.2f %10s%s\n", pt.c_str(),
                 eta.c_str(), b.displaced ? "displaced" : "prompt", b.particles,
                 b.realMean(), b.simulatedMean(),
@@ -287,8 +281,8 @@ void printValidation(const SimulationValidationTables& t,
       formatDeviation(agreement.worst).c_str());
   const std::string noise =
       simulation.noisePerSensor > 0.0
-          ? shortNumber(simulation.noisePerSensor) + " noise hits per sensor"
-          : "noise fraction " + shortNumber(simulation.noiseFraction);
+          ? formatNumber(simulation.noisePerSensor) + " noise hits per sensor"
+          : "noise fraction " + formatNumber(simulation.noiseFraction);
   std::printf("Hits per (volume, layer), real and simulated (%s included):\n",
               noise.c_str());
   std::printf("%6s %6s %9s %9s %10s\n", "volume", "layer", "real", "simulated",

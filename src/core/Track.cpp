@@ -14,6 +14,17 @@ std::uint32_t Track::numTurnHits() const {
       std::count(outlier.begin(), outlier.end(), kTurnHit));
 }
 
+void Track::takeFit(const Track& fitted) {
+  std::copy_n(fitted.outlier.begin(),
+              std::min(fitted.outlier.size(), outlier.size()), outlier.begin());
+  this->fitted = fitted.fitted;
+  atIp = fitted.atIp;
+  atFirstHit = fitted.atFirstHit;
+  atLastHit = fitted.atLastHit;
+  chi2 = fitted.chi2;
+  ndf = fitted.ndf;
+}
+
 std::uint32_t Track::numMeasurements() const {
   return static_cast<std::uint32_t>(hits.size()) - numOutliers() -
          numTurnHits();

@@ -20,14 +20,7 @@ FitInput fitInput(const FoundTrack& found) {
 Track withFit(const FoundTrack& found, Track fitted) {
   Track track = toTrack(found);
   // The fit's flags for the hits it was given; further-turn hits follow.
-  std::copy(fitted.outlier.begin(), fitted.outlier.end(),
-            track.outlier.begin());
-  track.fitted = fitted.fitted;
-  track.atIp = fitted.atIp;
-  track.atFirstHit = fitted.atFirstHit;
-  track.atLastHit = fitted.atLastHit;
-  track.chi2 = fitted.chi2;
-  track.ndf = fitted.ndf;
+  track.takeFit(fitted);
   return track;
 }
 

@@ -393,51 +393,49 @@ Event TrackmlEventSimulation::simulate(
     return *m_detector->findLayer(hit.detId);
   };
 
-  if (m_config.noisePerSensor > 0.0) {
-    // A rate per sensor, independent of the particles: the real files'
-    // noise count does not follow their occupancy. Own stream, as below.
-    RandomEngine noiseRng = makeEngine(m_config.seed, eventNumber,
-                                       RandomStream::eBackgroundSimulation);
-    for (std::size_t l = 0; l < layers.size(); ++l) {
-      const auto [begin, end] =
-          m_modules->layerRange(static_cast<std::uint32_t>(l));
-      if (end == begin) {
-        continue;
-      }
-      std::poisson_distribution<std::size_t> count(
-          m_config.noisePerSensor * static_cast<double>(end - begin));
-      addNoise(l, count(noiseRng), noiseRng, event);
-    }
-  } else if (m_config.noiseFraction > 0.0) {
+  if (m_config.noisePerSensor > 0.0 || m_config.noiseFraction > 0.0) {
     // Noise has its own stream (no overlay in this mode), so that the
-    // particle hits do not change with the noise fraction.
+    // particle hits do not change with the noise.
     RandomEngine noiseRng = makeEngine(m_config.seed, eventNumber,
                                        RandomStream::eBackgroundSimulation);
-    std::vector<std::size_t> perLayer(layers.size(), 0);
-    for (const Hit& hit : event.hits) {
-      ++perLayer[layerIndex(hit)];
-    }
+    // With a fraction f of all hits: f / (1 - f) x the particle hits, the
+    // same expected number on every sensor (the real files show it,
+    // docs/validation.md), or on ideal layers in proportion to their hits.
     const double ratio =
         m_config.noiseFraction / (1.0 - m_config.noiseFraction);
-    if (m_modules) {
-      // The same expected noise on every sensor: the real files show it
-      // (docs/validation.md), and a fraction f of all hits is noise.
-      const double total = ratio * static_cast<double>(event.hits.size()) /
-                           static_cast<double>(m_modules->modules().size());
-      for (std::size_t l = 0; l < layers.size(); ++l) {
-        const auto [begin, end] =
-            m_modules->layerRange(static_cast<std::uint32_t>(l));
-        addNoise(l,
-                 static_cast<std::size_t>(
-                     std::llround(total * static_cast<double>(end - begin))),
-                 noiseRng, event);
+    std::vector<std::size_t> perLayer(layers.size(), 0);
+    if (!m_modules) {
+      for (const Hit& hit : event.hits) {
+        ++perLayer[layerIndex(hit)];
       }
-    } else {
-      for (std::size_t l = 0; l < layers.size(); ++l) {
+    }
+    const double perSensorShare =
+        m_modules ? ratio * static_cast<double>(event.hits.size()) /
+                        static_cast<double>(m_modules->modules().size())
+                  : 0.0;
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+      if (!m_modules) {
         addNoise(l,
                  static_cast<std::size_t>(
                      std::llround(ratio * static_cast<double>(perLayer[l]))),
                  noiseRng, event);
+        continue;
+      }
+      const auto [begin, end] =
+          m_modules->layerRange(static_cast<std::uint32_t>(l));
+      const double sensors = static_cast<double>(end - begin);
+      if (m_config.noisePerSensor > 0.0) {
+        // A rate per sensor, whatever the occupancy: the real files' noise
+        // count does not follow it.
+        if (end > begin) {
+          std::poisson_distribution<std::size_t> count(m_config.noisePerSensor *
+                                                       sensors);
+          addNoise(l, count(noiseRng), noiseRng, event);
+        }
+      } else {
+        addNoise(
+            l, static_cast<std::size_t>(std::llround(perSensorShare * sensors)),
+            noiseRng, event);
       }
     }
   }

@@ -73,6 +73,11 @@ struct Track {
   std::uint32_t numOutliers() const;
   /// Number of a looper's further-turn hits (kTurnHit).
   std::uint32_t numTurnHits() const;
+  /// Takes the result of `fitted`, a fit of this track's leading hits (in
+  /// the same order): its outlier flags for those hits, its states, chi2,
+  /// ndf and status. Hits beyond (a looper's further turns) keep theirs;
+  /// the finder's fields stay.
+  void takeFit(const Track& fitted);
 };
 
 }  // namespace conftrack

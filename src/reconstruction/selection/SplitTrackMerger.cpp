@@ -45,6 +45,14 @@ double arcFromPerigee(const TrackVector& p, const Vector3& position) {
   return -alpha / omega;
 }
 
+/// The parameters of the piece whose curvature is the better measured: its
+/// circle orders the hits of both.
+const TrackVector& betterMeasured(const Track& a, const Track& b) {
+  return a.atIp.covariance(eOmega, eOmega) <= b.atIp.covariance(eOmega, eOmega)
+             ? a.atIp.parameters
+             : b.atIp.parameters;
+}
+
 bool positiveFinite(double x) { return x > 0.0 && std::isfinite(x); }
 
 double chi2PerNdf(const Track& t) {
@@ -123,10 +131,7 @@ std::optional<double> SplitTrackMerger::compatible(std::span<const Hit> hits,
   // layer only within an overlap. A piece's hits may lie between the
   // other's: an extension skips a layer that a later step's piece holds.
   const double tolerance = m_config.maxSameLayerDistance;
-  const TrackVector& better =
-      a.atIp.covariance(eOmega, eOmega) <= b.atIp.covariance(eOmega, eOmega)
-          ? pa
-          : pb;
+  const TrackVector& better = betterMeasured(a, b);
   for (const Track* t : {&a, &b}) {
     for (HitIndex h : t->hits) {
       if (!(arcFromPerigee(better, hits[h].position) > -tolerance)) {
@@ -148,38 +153,36 @@ std::optional<double> SplitTrackMerger::compatible(std::span<const Hit> hits,
 std::optional<Track> SplitTrackMerger::merge(std::span<const Hit> hits,
                                              const Track& a,
                                              const Track& b) const {
-  const TrackVector& better =
-      a.atIp.covariance(eOmega, eOmega) <= b.atIp.covariance(eOmega, eOmega)
-          ? a.atIp.parameters
-          : b.atIp.parameters;
+  // Path order: by arc length (ties by index, for determinism), each
+  // computed once; a hit both pieces hold once.
+  const TrackVector& better = betterMeasured(a, b);
+  std::vector<std::pair<double, HitIndex>> byArc;
+  byArc.reserve(a.hits.size() + b.hits.size());
+  for (const Track* t : {&a, &b}) {
+    for (HitIndex h : t->hits) {
+      byArc.emplace_back(arcFromPerigee(better, hits[h].position), h);
+    }
+  }
+  std::sort(byArc.begin(), byArc.end());
+  byArc.erase(std::unique(byArc.begin(), byArc.end()), byArc.end());
   std::vector<HitIndex> merged;
-  merged.reserve(a.hits.size() + b.hits.size());
-  merged.insert(merged.end(), a.hits.begin(), a.hits.end());
-  merged.insert(merged.end(), b.hits.begin(), b.hits.end());
-  // Path order (ties by index, for determinism); a hit both pieces hold
-  // once.
-  std::sort(merged.begin(), merged.end(), [&](HitIndex x, HitIndex y) {
-    return std::make_pair(arcFromPerigee(better, hits[x].position), x) <
-           std::make_pair(arcFromPerigee(better, hits[y].position), y);
-  });
-  merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
-  Track fitted = m_fitter->fit(hits, FitInput{merged, false});
+  merged.reserve(byArc.size());
+  for (const auto& [arc, h] : byArc) {
+    merged.push_back(h);
+  }
+  const Track fitted = m_fitter->fit(hits, FitInput{merged, false});
   const double worstPiece = std::max({1.0, chi2PerNdf(a), chi2PerNdf(b)});
   if (!fitted.fitted ||
       !(chi2PerNdf(fitted) <= m_config.maxChi2Ratio * worstPiece) ||
       fitted.numOutliers() > a.numOutliers() + b.numOutliers() + 1) {
     return std::nullopt;
   }
-  // The finder's fields of the longer piece.
-  const Track& longer = a.hits.size() >= b.hits.size() ? a : b;
-  fitted.findingStep = longer.findingStep;
-  fitted.ptEstimate = longer.ptEstimate;
-  fitted.chargeEstimate = longer.chargeEstimate;
-  fitted.chi2Uv = longer.chi2Uv;
-  fitted.ndfUv = longer.ndfUv;
-  fitted.chi2Sz = longer.chi2Sz;
-  fitted.ndfSz = longer.ndfSz;
-  return fitted;
+  // The merged hits, with the longer piece's finder fields and the fit.
+  Track out = a.hits.size() >= b.hits.size() ? a : b;
+  out.hits = fitted.hits;
+  out.outlier.assign(out.hits.size(), kFittedHit);
+  out.takeFit(fitted);
+  return out;
 }
 
 SplitTrackMerger::Result SplitTrackMerger::run(

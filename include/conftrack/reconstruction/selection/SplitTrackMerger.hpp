@@ -27,12 +27,13 @@ namespace conftrack {
 /// different layers (or on one layer within an overlap of neighbouring
 /// sensors), are refitted as one track and replace the two pieces if the
 /// merged fit is as good as theirs. Tracks with a looper's further-turn
-/// hits (kTurnHit) and tracks whose hits reach beyond 0.95 of their circle's
-/// diameter (past the apex, where the path order is not the radial one)
-/// are left alone. Pairs are tried best parameter chi2 first, each track at
-/// most once per round; rounds repeat (at most three) so that three pieces
-/// become one. The result does not depend on the thread count or the input
-/// hit order.
+/// hits (kTurnHit) are left alone, and so are pairs with a hit beyond the
+/// first half-turn from the perigee of the piece with the better-measured
+/// curvature (a looper's returning half), where the arc length along that
+/// circle no longer orders the hits. Pairs are tried best parameter chi2 first,
+/// each track at most once per round; rounds repeat (at most three) so that
+/// three pieces become one. The result does not depend on the thread count or
+/// the input hit order.
 class SplitTrackMerger {
  public:
   struct Config {
