@@ -458,6 +458,24 @@ TEST(TrackMerging, FurtherTurnStartingOnAForeignHitIsStillDropped) {
             (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
 }
 
+TEST(TrackMerging, TurnSharingAHitWithTheFirstHalfTurnJoinsItOnce) {
+  // Near the apex both half-turns cross the outermost layer they reach
+  // close together, and the incoming half-turn's track ended on the first
+  // half-turn's hit there (7, on the looper's circle) instead of its own
+  // (57). Joining the turn put hit 7 on the track twice, fitted and as a
+  // turn hit (CLICdet tt-bar + 30 BX with sensors, event 55: the track
+  // file was refused on reading).
+  Fixture f;
+  f.hits = looperHits(f.det, 70.0, 0.05);
+  f.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 7}});
+  EXPECT_EQ(f.merge(), 1u);
+  ASSERT_EQ(f.state->tracks.size(), 1u);
+  EXPECT_EQ(f.ids(0), (std::vector<std::uint64_t>{1, 2, 3, 4, 5, 6, 7}));
+  // Every hit once: the turn's own hits, and its unused ones (51, 57).
+  EXPECT_EQ(f.turnIds(0),
+            (std::vector<std::uint64_t>{51, 52, 53, 54, 55, 56, 57}));
+}
+
 TEST(TrackMerging, TurnWhoseConformalCircleFlipsIsRecognised) {
   // A 0.48 GeV looper (rho = 400 mm, tanLambda 0.3) whose incoming
   // half-turn, moved 5 mm outwards by energy loss and scattering, passes

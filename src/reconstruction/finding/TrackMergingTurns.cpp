@@ -375,9 +375,18 @@ std::uint32_t TrackMerger::dropTurns() {
       if (score <= m_config.maxJoinScore) {
         // Not the end hit that the turn's circle left out: another
         // particle's, which an extension took.
+        // Nor a hit the two half-turns share (near the apex the turn's
+        // track may end on the first half-turn's hit): it is on the
+        // track already.
         const std::span<const ConfIndex> hits = circles[u].hitsOf(tracks[u]);
         std::vector<ConfIndex>& joined = tracks[t].turnHits;
-        joined.insert(joined.end(), hits.begin(), hits.end());
+        for (const ConfIndex h : hits) {
+          if (std::find(first.hits.begin(), first.hits.end(), h) ==
+                  first.hits.end() &&
+              std::find(joined.begin(), joined.end(), h) == joined.end()) {
+            joined.push_back(h);
+          }
+        }
       }
       ++dropped;
     }
