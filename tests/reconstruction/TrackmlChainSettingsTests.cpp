@@ -139,7 +139,8 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(c.maxPathsPerSeed, FinderConfig{}.maxPathsPerSeed);
 
   // The step additions default to upstream's behaviour; the CLICdet chain
-  // uses only the seed caps and tracker seeds in the displaced steps.
+  // uses the seed caps, the vertex windows and tracker seeds in the
+  // displaced steps.
   const Detector clic = loadDetector("clicdet");
   const FinderConfig minimal =
       parseChain(minimalStep("VertexBarrel"), "minimal.toml", clic);
@@ -154,7 +155,12 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(d.chi2CutAt(0.1), d.chi2Cut);
   EXPECT_TRUE(minimal.finalHoleFilling && minimal.scatteringAllowance);
   const FinderConfig clicChain = readChain(resolveChainPath("clicdet"), clic);
-  EXPECT_FALSE(clicChain.vertexPrepass.has_value());
+  // The vertex builds seed about the event's vertices (algorithm.md 3.16),
+  // found with thresholds for the overlay's small interactions.
+  ASSERT_TRUE(clicChain.vertexPrepass.has_value());
+  EXPECT_EQ(clicChain.vertexPrepass->minExcess, 2.0);
+  EXPECT_EQ(clicChain.vertexPrepass->minSignificance, 2.0);
+  EXPECT_EQ(clicChain.vertexPrepass->collections.size(), 1u);
   for (const FindingStep& s : clicChain.steps) {
     const bool displaced = s.name.starts_with("Displaced");
     // LowPtHelix seeds in the vertex barrel and endcap, 100 mm long.
@@ -170,7 +176,10 @@ TEST(TrackmlChain, ShippedChainSettings) {
               vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
         << s.name;
     EXPECT_EQ(s.maxSeedCells, s.build && s.radialSearch ? 30u : 0u) << s.name;
-    EXPECT_EQ(s.vertexWindow, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(s.vertexWindow,
+              vertexBuild ? 1.0 : std::numeric_limits<double>::infinity())
+        << s.name;
+    EXPECT_FALSE(s.vertexPrepassFreeHits) << s.name;
     EXPECT_EQ(
         s.maxSeedLength,
         lowPtHelix

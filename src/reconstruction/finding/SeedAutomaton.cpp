@@ -160,6 +160,47 @@ void SeedAutomaton::expand(std::uint32_t c) {
   m_childPool.insert(m_childPool.end(), m_children.begin(), m_children.end());
 }
 
+bool SeedAutomaton::seedCellZ0(ConfIndex a, ConfIndex b, double& z0,
+                               double& lever) const {
+  // The arc length from the origin along the circle through the origin
+  // and both hits (a prompt track's), on which the helix is straight in
+  // z. The (R, z) chord of a low-momentum track curves: its z0 missed the
+  // vertex by millimetres to centimetres (CLICdet, 0.1 GeV in 4 T, tan
+  // lambda 1, from R = 31 to 58 mm: 1 mm, ten times that for a pair on
+  // two disks). Where the hits lie beyond that circle's reach (R above
+  // its diameter: a displaced track's), the chord.
+  const double ra = m_hits.radius[a];
+  const double rb = m_hits.radius[b];
+  double sa = ra;
+  double sb = rb;
+  const double du = m_hits.u[b] - m_hits.u[a];
+  const double dv = m_hits.v[b] - m_hits.v[a];
+  const double l = std::sqrt(du * du + dv * dv);
+  const double k =
+      l > 0.0
+          ? std::abs(m_hits.u[a] * m_hits.v[b] - m_hits.u[b] * m_hits.v[a]) / l
+          : 0.0;
+  if (std::max(ra, rb) * k < 1.0) {
+    sa = arcLength(ra, k);
+    sb = arcLength(rb, k);
+    // The arc grows faster than R along the whole circle (s(R) is
+    // convex), so the (R, z) chord from a hit to another is steeper than
+    // the line from the origin to it by the ratio of the two secants,
+    // kMaxSeedArcRatio at most here: seedRzCone() widens its z range by
+    // that much.
+    if (std::abs(sb - sa) * ra > kMaxSeedArcRatio * std::abs(rb - ra) * sa) {
+      return false;
+    }
+  }
+  const double ds = sb - sa;
+  if (ds == 0.0) {
+    return false;
+  }
+  z0 = m_hits.z[a] - (m_hits.z[b] - m_hits.z[a]) * sa / ds;
+  lever = std::min(sa, sb) / std::abs(ds);
+  return true;
+}
+
 bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
   if (!acceptNeighbour(seed, n)) {
     return false;
@@ -174,27 +215,21 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
   const bool fixedZ0 =
       m_step.maxSeedZ0 < std::numeric_limits<double>::infinity();
   if (fixedZ0 || !m_zWindows.empty()) {
-    // z of the cell's (R, z) line at R = 0: |z_s - dz/dR R_s| <= cut,
-    // multiplied out (no division for equal radii).
-    double dr = m_hits.radius[n] - m_hits.radius[seed];
-    double zr = m_hits.z[seed] * dr -
-                (m_hits.z[n] - m_hits.z[seed]) * m_hits.radius[seed];
-    if (fixedZ0 && std::abs(zr) > m_step.maxSeedZ0 * std::abs(dr)) {
+    double z0 = 0.0;
+    double lever = 0.0;
+    if (!seedCellZ0(seed, n, z0, lever)) {
+      return false;
+    }
+    if (fixedZ0 && std::abs(z0) > m_step.maxSeedZ0) {
       return false;
     }
     // Within the step's window of a vertex region (VertexZPrepass), grown
     // with the cell's lever arm: the error of z0 is that of the cell's
-    // slope times the distance of its inner hit from the beam line.
-    if (!m_zWindows.empty()) {
-      if (dr == 0.0) {
-        return false;
-      }
-      const double inner = std::min(m_hits.radius[seed], m_hits.radius[n]);
-      const double lever =
-          std::clamp(inner / std::abs(dr), 1.0, kMaxVertexLever);
-      if (!m_zWindows.near(zr / dr, lever * m_step.vertexWindow)) {
-        return false;
-      }
+    // slope times the path from the beam line to its inner hit.
+    if (!m_zWindows.empty() &&
+        !m_zWindows.near(z0, std::clamp(lever, 1.0, kMaxVertexLever) *
+                                 m_step.vertexWindow)) {
+      return false;
     }
   }
   const double du = m_hits.u[n] - m_hits.u[seed];
@@ -229,6 +264,13 @@ bool SeedAutomaton::seedRzCone(ConfIndex seed, HitPool::RzCone& cone) const {
   }
   const double zs = m_hits.z[seed];
   const double rs = m_hits.radius[seed];
+  // A seed cell's z0 is taken along the arc (seedCellZ0()); the (R, z)
+  // chord to its other hit meets R = 0 at z0 + (z0 - zs) (Q - 1), where Q
+  // in [1, kMaxSeedArcRatio] is the ratio of the chord's slope to that of
+  // the line from z0 to the seed hit.
+  const double beyond = kMaxSeedArcRatio - 1.0;
+  lo = std::min(lo, lo + (lo - zs) * beyond);
+  hi = std::max(hi, hi + (hi - zs) * beyond);
   const double sign = m_insideOut ? 1.0 : -1.0;
   double az = zs - lo;
   double ar = rs;

@@ -81,9 +81,20 @@ class SeedAutomaton {
   /// The cuts on a seed cell (seed -> n).
   bool seedCellPasses(ConfIndex seed, ConfIndex n) const;
 
+  /// z at the beam line of the prompt track through hits a and b: their
+  /// (s, z) line at s = 0, s the arc length along the circle through the
+  /// origin and both hits (the (R, z) chord where that circle cannot reach
+  /// them), and the lever arm of that extrapolation (inner s over the
+  /// cells' ds). False if there is none (equal s) or the circle bends
+  /// beyond kMaxSeedArcRatio between the hits.
+  bool seedCellZ0(ConfIndex a, ConfIndex b, double& z0, double& lever) const;
+
   /// With a z0 cut, the seed cells lie in the (z, R) cone with apex at the
   /// seed spanned by the lines from (-z0max, 0) and (+z0max, 0) through it
-  /// (outwards; inwards the opposite cone). Returns false without a cut.
+  /// (outwards; inwards the opposite cone), those z0 moved away from the
+  /// seed's z by kMaxSeedArcRatio - 1 times their distance (the arc's
+  /// chords are steeper than its (s, z) line). Returns false without a
+  /// cut.
   bool seedRzCone(ConfIndex seed, HitPool::RzCone& cone) const;
 
   void seedCells(ConfIndex seed);
@@ -126,6 +137,13 @@ class SeedAutomaton {
   /// Largest growth of a seed cell's vertex window with its lever arm
   /// (FindingStep::vertexWindow).
   static constexpr double kMaxVertexLever = 10.0;
+  /// Largest ratio of a seed cell's (R, z) chord slope to the slope from
+  /// its z0 to its hit, ds/dR over s/R (>= 1: s(R) is convex): 2 is
+  /// reached where the circle has turned by 60 degrees (R = 1.7 times its
+  /// radius), beyond any vertex detector for a track above 0.1 GeV in 4 T
+  /// (CLICdet: 1.27 at most, at the endcaps' 102 mm) or 0.15 GeV in 2 T
+  /// (TrackML pixels: 1.07).
+  static constexpr double kMaxSeedArcRatio = 2.0;
 
   // Step-wide cell graph (children computed once per cell).
   std::vector<Cell> m_cells;
