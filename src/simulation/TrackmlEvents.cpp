@@ -413,30 +413,28 @@ Event TrackmlEventSimulation::simulate(
         m_modules ? ratio * static_cast<double>(event.hits.size()) /
                         static_cast<double>(m_modules->modules().size())
                   : 0.0;
-    for (std::size_t l = 0; l < layers.size(); ++l) {
+    auto noiseCount = [&](std::size_t l) -> std::size_t {
       if (!m_modules) {
-        addNoise(l,
-                 static_cast<std::size_t>(
-                     std::llround(ratio * static_cast<double>(perLayer[l]))),
-                 noiseRng, event);
-        continue;
+        return static_cast<std::size_t>(
+            std::llround(ratio * static_cast<double>(perLayer[l])));
       }
       const auto [begin, end] =
           m_modules->layerRange(static_cast<std::uint32_t>(l));
       const double sensors = static_cast<double>(end - begin);
-      if (m_config.noisePerSensor > 0.0) {
-        // A rate per sensor, whatever the occupancy: the real files' noise
-        // count does not follow it.
-        if (end > begin) {
-          std::poisson_distribution<std::size_t> count(m_config.noisePerSensor *
-                                                       sensors);
-          addNoise(l, count(noiseRng), noiseRng, event);
-        }
-      } else {
-        addNoise(
-            l, static_cast<std::size_t>(std::llround(perSensorShare * sensors)),
-            noiseRng, event);
+      if (m_config.noisePerSensor <= 0.0) {
+        return static_cast<std::size_t>(std::llround(perSensorShare * sensors));
       }
+      // A rate per sensor, whatever the occupancy: the real files' noise
+      // count does not follow it.
+      if (end == begin) {
+        return 0;
+      }
+      std::poisson_distribution<std::size_t> count(m_config.noisePerSensor *
+                                                   sensors);
+      return count(noiseRng);
+    };
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+      addNoise(l, noiseCount(l), noiseRng, event);
     }
   }
 

@@ -48,18 +48,8 @@ Cell SeedAutomaton::makeCell(ConfIndex a, ConfIndex b) const {
   // The helix is a straight line in (s, z), not in (R, z): R grows
   // slower than s by cos(psi), sin(psi) = R / (2 Rc), so a 0.2 GeV track
   // in 2 T bends by 0.02 rad in (z, R) across the TrackML pixel barrel.
-  // The cell's conformal line lies 1 / (2 Rc) from the origin (circles
-  // through the origin), which gives s(R) = 2 Rc asin(R / (2 Rc)).
-  // A hit beyond the reach of that circle (R > 2 Rc: a cell of a
-  // displaced track, whose conformal image is a circle, not a line)
-  // keeps the (z, R) chord.
-  const double k =
-      std::abs(m_hits.u[a] * m_hits.v[b] - m_hits.u[b] * m_hits.v[a]) / l;
-  const double ra = m_hits.radius[a];
-  const double rb = m_hits.radius[b];
-  const double ds = std::max(ra, rb) * k < 1.0
-                        ? arcLength(rb, k) - arcLength(ra, k)
-                        : rb - ra;
+  const auto [sa, sb] = promptArcs(a, b, l);
+  const double ds = sb - sa;
   const double ls = std::sqrt(dz * dz + ds * ds);
   c.dz = ls > 0.0 ? dz / ls : 0.0;
   c.ds = ls > 0.0 ? ds / ls : 1.0;
@@ -71,6 +61,24 @@ bool SeedAutomaton::anglesPass(const Cell& parent, const Cell& child) const {
   // [0, pi]).
   return parent.du * child.du + parent.dv * child.dv >= m_cosCellAngle &&
          parent.dz * child.dz + parent.ds * child.ds >= m_cosCellAngleRZ;
+}
+
+std::pair<double, double> SeedAutomaton::promptArcs(ConfIndex a, ConfIndex b,
+                                                    double l) const {
+  // The cells' conformal line lies 1 / (2 Rc) from the origin (circles
+  // through the origin), which gives s(R) = 2 Rc asin(R / (2 Rc)). A hit
+  // beyond the reach of that circle (R > 2 Rc: a displaced track's cell,
+  // whose conformal image is a circle, not a line) keeps the chord.
+  const double k =
+      l > 0.0
+          ? std::abs(m_hits.u[a] * m_hits.v[b] - m_hits.u[b] * m_hits.v[a]) / l
+          : 0.0;
+  const double ra = m_hits.radius[a];
+  const double rb = m_hits.radius[b];
+  if (std::max(ra, rb) * k < 1.0) {
+    return {arcLength(ra, k), arcLength(rb, k)};
+  }
+  return {ra, rb};
 }
 
 double SeedAutomaton::arcLength(double r, double k) {
@@ -162,38 +170,23 @@ void SeedAutomaton::expand(std::uint32_t c) {
 
 bool SeedAutomaton::seedCellZ0(ConfIndex a, ConfIndex b, double& z0,
                                double& lever) const {
-  // The arc length from the origin along the circle through the origin
-  // and both hits (a prompt track's), on which the helix is straight in
-  // z. The (R, z) chord of a low-momentum track curves: its z0 missed the
-  // vertex by millimetres to centimetres (CLICdet, 0.1 GeV in 4 T, tan
-  // lambda 1, from R = 31 to 58 mm: 1 mm, ten times that for a pair on
-  // two disks). Where the hits lie beyond that circle's reach (R above
-  // its diameter: a displaced track's), the chord.
-  const double ra = m_hits.radius[a];
-  const double rb = m_hits.radius[b];
-  double sa = ra;
-  double sb = rb;
+  // Along the prompt circle the helix is straight in z. The (R, z) chord
+  // of a low-momentum track curves: its z0 missed the vertex by
+  // millimetres to centimetres (CLICdet, 0.1 GeV in 4 T, tan lambda 1,
+  // from R = 31 to 58 mm: 1 mm, ten times that for a pair on two disks).
   const double du = m_hits.u[b] - m_hits.u[a];
   const double dv = m_hits.v[b] - m_hits.v[a];
-  const double l = std::sqrt(du * du + dv * dv);
-  const double k =
-      l > 0.0
-          ? std::abs(m_hits.u[a] * m_hits.v[b] - m_hits.u[b] * m_hits.v[a]) / l
-          : 0.0;
-  if (std::max(ra, rb) * k < 1.0) {
-    sa = arcLength(ra, k);
-    sb = arcLength(rb, k);
-    // The arc grows faster than R along the whole circle (s(R) is
-    // convex), so the (R, z) chord from a hit to another is steeper than
-    // the line from the origin to it by the ratio of the two secants,
-    // kMaxSeedArcRatio at most here: seedRzCone() widens its z range by
-    // that much.
-    if (std::abs(sb - sa) * ra > kMaxSeedArcRatio * std::abs(rb - ra) * sa) {
-      return false;
-    }
-  }
+  const auto [sa, sb] = promptArcs(a, b, std::sqrt(du * du + dv * dv));
   const double ds = sb - sa;
-  if (ds == 0.0) {
+  // The arc grows faster than R along the whole circle (s(R) is convex),
+  // so the (R, z) chord from a hit to another is steeper than the line
+  // from the origin to it by the ratio of the two secants,
+  // kMaxSeedArcRatio at most here: seedRzCone() widens its z range by
+  // that much.
+  const double ra = m_hits.radius[a];
+  if (ds == 0.0 || std::abs(ds) * ra > kMaxSeedArcRatio *
+                                           std::abs(m_hits.radius[b] - ra) *
+                                           sa) {
     return false;
   }
   z0 = m_hits.z[a] - (m_hits.z[b] - m_hits.z[a]) * sa / ds;
@@ -212,26 +205,6 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
   if (dz > m_step.slopeZRange * dxy) {
     return false;
   }
-  const bool fixedZ0 =
-      m_step.maxSeedZ0 < std::numeric_limits<double>::infinity();
-  if (fixedZ0 || !m_zWindows.empty()) {
-    double z0 = 0.0;
-    double lever = 0.0;
-    if (!seedCellZ0(seed, n, z0, lever)) {
-      return false;
-    }
-    if (fixedZ0 && std::abs(z0) > m_step.maxSeedZ0) {
-      return false;
-    }
-    // Within the step's window of a vertex region (VertexZPrepass), grown
-    // with the cell's lever arm: the error of z0 is that of the cell's
-    // slope times the path from the beam line to its inner hit.
-    if (!m_zWindows.empty() &&
-        !m_zWindows.near(z0, std::clamp(lever, 1.0, kMaxVertexLever) *
-                                 m_step.vertexWindow)) {
-      return false;
-    }
-  }
   const double du = m_hits.u[n] - m_hits.u[seed];
   const double dv = m_hits.v[n] - m_hits.v[seed];
   if (du * du + dv * dv > m_step.maxDistance * m_step.maxDistance) {
@@ -241,8 +214,30 @@ bool SeedAutomaton::seedCellPasses(ConfIndex seed, ConfIndex n) const {
     return false;
   }
   double dphi = std::abs(m_hits.phi[n] - m_hits.phi[seed]);
-  return std::min(dphi, 2.0 * std::numbers::pi - dphi) <=
-         m_step.maxSeedDeltaPhi;
+  if (std::min(dphi, 2.0 * std::numbers::pi - dphi) > m_step.maxSeedDeltaPhi) {
+    return false;
+  }
+  // The z0 cuts last: the arc's z0 costs an arcsine where the others cost
+  // a product.
+  const bool fixedZ0 =
+      m_step.maxSeedZ0 < std::numeric_limits<double>::infinity();
+  if (!fixedZ0 && m_zWindows.empty()) {
+    return true;
+  }
+  double z0 = 0.0;
+  double lever = 0.0;
+  if (!seedCellZ0(seed, n, z0, lever)) {
+    return false;
+  }
+  if (fixedZ0 && std::abs(z0) > m_step.maxSeedZ0) {
+    return false;
+  }
+  // Within the step's window of a vertex region (VertexZPrepass), grown
+  // with the cell's lever arm: the error of z0 is that of the cell's
+  // slope times the path from the beam line to its inner hit.
+  return m_zWindows.empty() ||
+         m_zWindows.near(
+             z0, std::clamp(lever, 1.0, kMaxVertexLever) * m_step.vertexWindow);
 }
 
 bool SeedAutomaton::seedRzCone(ConfIndex seed, HitPool::RzCone& cone) const {

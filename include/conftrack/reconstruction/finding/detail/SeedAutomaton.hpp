@@ -60,6 +60,12 @@ class SeedAutomaton {
   /// through the origin with curvature 2k (k = 1 / (2 Rc)).
   static double arcLength(double r, double k);
 
+  /// Arc lengths from the origin of hits a and b along the circle through
+  /// the origin and both (a prompt track's; l: their conformal distance),
+  /// or their radii where that circle cannot reach them.
+  std::pair<double, double> promptArcs(ConfIndex a, ConfIndex b,
+                                       double l) const;
+
   static std::uint64_t key(ConfIndex a, ConfIndex b) {
     return (static_cast<std::uint64_t>(a) << 32) | b;
   }
