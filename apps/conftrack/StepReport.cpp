@@ -51,6 +51,12 @@ void printStepTable(std::FILE* out, std::span<const StepStats> steps,
             guardBiteUnit(guard));
       }
     }
+    if (s.droppedTracks > 0) {
+      // The shared-hit resolution's, and a step's tracks without an
+      // overlap pair (overlap_pair_below_hits).
+      std::fprintf(out, "%-12s dropped %llu tracks\n", s.name.c_str(),
+                   static_cast<unsigned long long>(s.droppedTracks));
+    }
     if (s.cellCacheFlushes > 0) {
       std::fprintf(out,
                    "%-12s cell cache emptied %llu times (max_cached_cells; "

@@ -94,8 +94,10 @@ TEST(ExtensionRanking, HitsFarBeyondTheFitQualityDoNotEndTracks) {
   // module the extension took a neighbour's hit, and its own further hits
   // then failed. Counted over all tracks: hits of the track's majority
   // particle (own) and the others (foreign, noise included). Measured: own
-  // 67919 with the cut against 67768 without, foreign 3450 against 3631
-  // (-5.0 %) with the pixel disks' inner ring of docs/validation.md item 13
+  // 68135 with the cut against 67990 without, foreign 3468 against 3650
+  // (-5.0 %) with the PixelShort step (67940 / 67795, 3454 / 3635 before
+  // it, since the seed cells' z0 along the arc; 67919 / 67768, 3450 / 3631
+  // before that) and the pixel disks' inner ring of docs/validation.md item 13
   // (67858 / 67647, 3585 / 3825 before it) and the real files' noise rate
   // per sensor (before that, with
   // 17 % noise and an older chain: 66792 / 66591, 2650 / 2852, -7.1 %; after

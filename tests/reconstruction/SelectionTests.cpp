@@ -14,6 +14,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "ChainText.hpp"
@@ -197,6 +198,17 @@ TEST(Selection, BadTracksThrow) {
   EXPECT_THROW(TrackSelector().run(hits, {bad}), std::invalid_argument);
   EXPECT_THROW(TrackSelector().run(hits, {makeTrack({1, 2, 99}, 1.0)}),
                std::out_of_range);
+  // A hit twice on one track, even as an outlier and on a track the cuts
+  // would drop (unfitted): the evaluation would count it twice.
+  Track twice = makeTrack({1, 2, 3, 2}, 1.0, {0, 0, 0, 1});
+  twice.fitted = false;
+  try {
+    TrackSelector().run(hits, {makeTrack({5, 6, 7}, 1.0), twice});
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("hit id 998 twice"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Selection, SharedHitResolutionDropsTracksWithFewOwnHits) {

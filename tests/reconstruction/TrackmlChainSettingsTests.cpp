@@ -24,7 +24,7 @@ namespace {
 TEST(TrackmlChain, ShippedChainSettings) {
   const Detector detector = loadDetector("trackml");
   const FinderConfig c = readChain(resolveChainPath("trackml"), detector);
-  ASSERT_EQ(c.steps.size(), 10u);
+  ASSERT_EQ(c.steps.size(), 11u);
   // A step by name; a missing one fails the test (and reads as a default
   // step instead of past the end).
   static const FindingStep kMissing;
@@ -119,6 +119,17 @@ TEST(TrackmlChain, ShippedChainSettings) {
             step("PixelPrompt").maxCellAngleRZ);
   EXPECT_DOUBLE_EQ(step("PixelPrompt2").vertexWindow, 1.0);
   EXPECT_DOUBLE_EQ(step("PixelPrompt2").chi2Cut, step("PixelPrompt").chi2Cut);
+  // Last, three-hit prompt pixel tracks, kept below five hits only with an
+  // overlap pair (algorithm.md 3.20); the other steps have no such rule.
+  EXPECT_EQ(c.steps.back().name, "PixelShort");
+  EXPECT_TRUE(step("PixelShort").build);
+  EXPECT_EQ(step("PixelShort").minHits, 3u);
+  EXPECT_EQ(step("PixelShort").overlapPairBelowHits, 5u);
+  EXPECT_DOUBLE_EQ(step("PixelShort").vertexWindow, 1.0);
+  for (const FindingStep& s : c.steps) {
+    EXPECT_TRUE(s.name == "PixelShort" || s.overlapPairBelowHits == 0)
+        << s.name;
+  }
   EXPECT_DOUBLE_EQ(step("PixelStrip").vertexWindow, 4.0);
   for (const FindingStep& s : c.steps) {
     EXPECT_EQ(s.maxSeedZ0, std::numeric_limits<double>::infinity());
@@ -191,9 +202,12 @@ TEST(TrackmlChain, ShippedChainSettings) {
   }
 }
 
-std::string chainError(const std::string& stepKeys) {
+/// The error of a one-step chain with `stepKeys` added to its step and
+/// `finderTable` before it, empty if it parses.
+std::string chainError(const std::string& stepKeys,
+                       const std::string& finderTable = "") {
   static const Detector det = loadDetector("trackml");
-  const std::string text = minimalStep("PixelBarrel") + stepKeys;
+  const std::string text = finderTable + minimalStep("PixelBarrel") + stepKeys;
   try {
     parseChain(text, "chain.toml", det);
   } catch (const InputError& e) {
@@ -221,6 +235,19 @@ TEST(TrackmlChain, NewKeysAreValidated) {
             std::string::npos);
   EXPECT_NE(chainError("seed_collections = [\"PixelEndcap\"]\n")
                 .find("not among the step's collections"),
+            std::string::npos);
+  // The overlap-pair rule: above min_hits (4 here), and only with the
+  // overlap search that adds the pairs.
+  EXPECT_EQ(chainError("overlap_pair_below_hits = 5\n"), "");
+  EXPECT_EQ(chainError("overlap_pair_below_hits = 0\n"), "");
+  EXPECT_NE(chainError("overlap_pair_below_hits = 4\n").find("above min_hits"),
+            std::string::npos);
+  EXPECT_NE(chainError("overlap_pair_below_hits = -1\n")
+                .find("overlap_pair_below_hits"),
+            std::string::npos);
+  EXPECT_NE(chainError("overlap_pair_below_hits = 5\n",
+                       "[finder]\noverlap_hits = false\n")
+                .find("needs the overlap search"),
             std::string::npos);
 }
 

@@ -64,7 +64,8 @@ TEST(TrackmlHitClaims, SteepLowMomentumTracksTakeBothHitsOfAnOverlap) {
   // hit errors: the overlap search judges the pair with that scattering
   // (overlapScatteringVariance). Counted: pixel-barrel layers where a
   // particle left two hits and its track (the majority) holds both.
-  // Measured 339 of 410 with the scattering against 312 without (the
+  // Measured 351 of 410 with the scattering (337 before the PixelShort
+  // step, 339 before the seed cells' z0 along the arc) against 312 without (the
   // rest: a pair's first hit left off the track, or both hits taken by
   // another particle's track; 352 and 325 of 401 before the simulation
   // placed the layers' material where the real files show it,
@@ -121,9 +122,11 @@ TEST(TrackmlHitClaims, SharedHitResolutionGivesHitsBackToTheirTracks) {
   // short tracks through several real ones keep hits of those (often the
   // second hit of an overlap) until the selection drops them, and the
   // hits end on no track. Counted: hits of each kept track's majority
-  // particle. Measured 66,508 with the resolution (and its trimming,
-  // final_trim_shared_hits) against 66,158 without since the pixel disks'
-  // inner ring of docs/validation.md item 13 (66,664 and 66,336 before it,
+  // particle. Measured 66,697 with the resolution (and its trimming,
+  // final_trim_shared_hits) against 66,340 without with the PixelShort step
+  // (66,552 and 66,196 before it, since the seed cells' z0 along the arc;
+  // 66,508 and 66,158 before that, since the pixel disks'
+  // inner ring of docs/validation.md item 13; 66,664 and 66,336 before it,
   // with the real files' noise rate per sensor; 66,850 and 66,522 with 17
   // % noise; the
   // same since the simulation placed the layers' material (docs/validation.md

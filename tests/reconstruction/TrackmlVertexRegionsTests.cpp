@@ -59,9 +59,10 @@ Found promptFound(const Event& event, const FindingResult& result,
 
 TEST(TrackmlVertexRegions, FreeHitPrepassFindsTheVerticesTheFirstMissed) {
   // The shipped chain's PixelPrompt alone, and followed by PixelPrompt2
-  // (the same cuts, vertex_prepass_free_hits): measured 2392 prompt
-  // particles found (pixel tracks only, no strip extension), 19 of them
-  // more than 5 mm from the event's regions, then 2449 and 61 (2429, 26,
+  // (the same cuts, vertex_prepass_free_hits): measured 2388 prompt
+  // particles found (pixel tracks only, no strip extension), 17 of them
+  // more than 5 mm from the event's regions, then 2444 and 60 since the
+  // seed cells' z0 along the arc (2392, 19, 2449 and 61 before; 2429, 26,
   // 2475 and 62 before the pixel disks' inner ring of docs/validation.md
   // item 13; 2432, 26,
   // 2475 and 60 with 17 % noise instead of the real files' rate per

@@ -166,6 +166,10 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
               // 0: one pass.
               {"first_pass_min_hits", static_cast<double>(s.firstPassMinHits),
                one, Range::closed(0, 100)},
+              // 0: off.
+              {"overlap_pair_below_hits",
+               static_cast<double>(s.overlapPairBelowHits), one,
+               Range::closed(0, 100)},
           },
           key)) {
     return problem(key, *what);
@@ -178,6 +182,11 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
   if (s.continueChi2Cut > 0.0 && s.continueChi2Cut < s.chi2Cut) {
     return problem("continue_chi2_cut",
                    "must be 0 (the step's chi2_cut) or at least chi2_cut");
+  }
+  if (s.overlapPairBelowHits != 0 && s.overlapPairBelowHits <= s.minHits) {
+    return problem("overlap_pair_below_hits",
+                   "must be 0 (off) or above min_hits (shorter tracks are "
+                   "not built)");
   }
   if (s.helix && !(s.minPt > 0.0)) {
     return problem("min_pt_GeV", "required by the \"helix\" action (> 0)");
@@ -274,6 +283,11 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
       return ChainProblem{i, "vertex_window_mm",
                           "needs the chain's [vertex_prepass] table (the "
                           "vertices it finds)"};
+    }
+    if (c.steps[i].overlapPairBelowHits != 0 && !c.overlapHits) {
+      return ChainProblem{i, "overlap_pair_below_hits",
+                          "needs the overlap search (finder.overlap_hits = "
+                          "true): it adds the pairs"};
     }
     if (c.steps[i].vertexPrepassFreeHits &&
         !(c.steps[i].build && std::isfinite(c.steps[i].vertexWindow))) {

@@ -105,6 +105,14 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
         (step.build || step.helix || step.extend)) {
       detail::addOverlapHits(state, *pool, stats);
     }
+    if (step.overlapPairBelowHits > 0) {
+      // Counted as dropped, not as accepted: the step's tracks are those
+      // it keeps.
+      const std::uint32_t dropped = detail::dropUnpairedShortTracks(
+          state, static_cast<std::uint16_t>(i), step.overlapPairBelowHits);
+      stats.droppedTracks += dropped;
+      stats.accepted -= std::min<std::uint64_t>(stats.accepted, dropped);
+    }
     if (step.sort) {
       std::sort(state.tracks.begin(), state.tracks.end(),
                 [](const TrackCandidate& a, const TrackCandidate& b) {

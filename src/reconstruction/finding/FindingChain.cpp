@@ -121,6 +121,8 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
       count(t, "continue_missed_layers", s.continueMissedLayers);
   s.continueChi2Cut = quantity(t, "continue_chi2_cut", one, s.continueChi2Cut);
   s.firstPassMinHits = count(t, "first_pass_min_hits", s.firstPassMinHits);
+  s.overlapPairBelowHits =
+      count(t, "overlap_pair_below_hits", s.overlapPairBelowHits);
   s.straightLineFit = t.getBool("straight_line_fit", false);
   s.onlySzChi2Cut = t.getBool("only_sz_chi2_cut", false);
   s.radialSearch = t.getBool("radial_search", false);

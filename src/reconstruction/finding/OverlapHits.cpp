@@ -390,6 +390,46 @@ std::uint32_t mergeTracksSharingHits(FinderState& state, StepStats& stats) {
   return merged;
 }
 
+std::uint32_t dropUnpairedShortTracks(FinderState& state, std::uint16_t step,
+                                      std::uint32_t belowHits) {
+  std::uint32_t dropped = 0;
+  std::vector<std::uint32_t> layers;
+  for (TrackCandidate& t : state.tracks) {
+    if (!t.alive || t.step != step || t.hits.size() >= belowHits) {
+      continue;
+    }
+    layers.clear();
+    for (ConfIndex h : t.hits) {
+      layers.push_back(state.hits.layer[h]);
+    }
+    std::sort(layers.begin(), layers.end());
+    if (std::adjacent_find(layers.begin(), layers.end()) != layers.end()) {
+      continue;  // an overlap pair
+    }
+    t.alive = false;
+    ++dropped;
+  }
+  if (dropped == 0) {
+    return 0;
+  }
+  // Free the dropped tracks' hits, then claim again those of live tracks
+  // (a candidate may share hits with others of its step).
+  for (const TrackCandidate& t : state.tracks) {
+    if (!t.alive && t.step == step) {
+      for (ConfIndex h : t.hits) {
+        state.used[h] = 0;
+      }
+    }
+  }
+  state.compact();
+  for (const TrackCandidate& t : state.tracks) {
+    for (ConfIndex h : t.hits) {
+      state.used[h] = 1;
+    }
+  }
+  return dropped;
+}
+
 void addOverlapHits(FinderState& state, const HitPool& pool, StepStats& stats) {
   OverlapHitCollector::Config config;
   config.maxChi2 = state.config.overlapMaxChi2;

@@ -6,24 +6,43 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace conftrack {
 
 namespace {
 
 /// Sorted ids of the hits used in the fit (outliers excluded).
-std::vector<std::uint64_t> usedHitIds(std::span<const Hit> hits,
-                                      const Track& track) {
+/// Throws for a track that is not a valid list of the event's hits: flags
+/// not parallel to the hits, an index outside the event, a hit held twice.
+/// The last is a finder bug that the evaluation would otherwise count
+/// twice, silently (the track files' reader refuses it; `conftrack run`
+/// and the Python module never read files): every path stops here.
+void checkTrackHits(std::span<const Hit> hits, const Track& track,
+                    std::vector<HitIndex>& scratch) {
   if (track.outlier.size() != track.hits.size()) {
     throw std::invalid_argument(
         "TrackSelector: outlier flags not parallel to the hits");
   }
+  for (const HitIndex h : track.hits) {
+    if (h >= hits.size()) {
+      throw std::out_of_range("TrackSelector: hit index out of range");
+    }
+  }
+  scratch.assign(track.hits.begin(), track.hits.end());
+  std::sort(scratch.begin(), scratch.end());
+  const auto twice = std::adjacent_find(scratch.begin(), scratch.end());
+  if (twice != scratch.end()) {
+    throw std::invalid_argument("TrackSelector: a track holds hit id " +
+                                std::to_string(hits[*twice].id) + " twice");
+  }
+}
+
+std::vector<std::uint64_t> usedHitIds(std::span<const Hit> hits,
+                                      const Track& track) {
   std::vector<std::uint64_t> ids;
   ids.reserve(track.hits.size());
   for (std::size_t i = 0; i < track.hits.size(); ++i) {
-    if (track.hits[i] >= hits.size()) {
-      throw std::out_of_range("TrackSelector: hit index out of range");
-    }
     if (track.outlier[i] == 0) {
       ids.push_back(hits[track.hits[i]].id);
     }
@@ -103,6 +122,10 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
   // Candidates passing the per-track cuts, with their used hit ids.
   std::vector<std::size_t> candidates;
   std::vector<std::vector<std::uint64_t>> ids(tracks.size());
+  std::vector<HitIndex> scratch;
+  for (const Track& track : tracks) {
+    checkTrackHits(hits, track, scratch);
+  }
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     if (m_config.requireFitted && !tracks[i].fitted) {
       ++result.unfitted;

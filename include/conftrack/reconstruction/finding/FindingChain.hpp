@@ -176,6 +176,15 @@ struct FindingStep {
   /// default, or at most minHits: one pass, each seed's candidate
   /// accepted at once).
   std::uint32_t firstPassMinHits = 0;
+  /// Tracks of this step with fewer hits than this after the step's
+  /// overlap search must hold an overlap pair (two hits on one layer, on
+  /// neighbouring sensors) or are dropped and their hits freed (0, the
+  /// default: off; otherwise above minHits, and the chain's overlap_hits
+  /// on). With minHits = 3, a prompt build finds the particles that end
+  /// after three layers (a hadronic interaction in the material): three
+  /// hits and an overlap partner, where the pair confirms the crossing
+  /// that a fourth layer would have (docs/algorithm.md 3.20).
+  std::uint32_t overlapPairBelowHits = 0;
   /// Tracks with pT estimate above this get the per-layer extension [GeV].
   double highPtCut = 10.0;
   /// Straight-line (no quadratic term) candidate fit (upstream HighPTFit).

@@ -122,7 +122,8 @@ class TrackSelector {
   /// Selects among `tracks`, whose hit indices point into `hits` (the
   /// event's hit array; only Hit::id is used). Throws std::out_of_range for
   /// a hit index outside `hits` and std::invalid_argument for a track
-  /// whose outlier flags are not parallel to its hits.
+  /// whose outlier flags are not parallel to its hits or that holds a hit
+  /// twice (any track, kept or not: such a track is a finder bug).
   SelectionResult run(std::span<const Hit> hits,
                       std::vector<Track> tracks) const;
 

@@ -99,6 +99,13 @@ class OverlapHitCollector {
 /// (track, track) order. Returns the number of merges.
 std::uint32_t mergeTracksSharingHits(FinderState& state, StepStats& stats);
 
+/// Drops the live tracks of step `step` with fewer than `belowHits` hits
+/// that hold no overlap pair (two hits on one layer) and frees the hits
+/// that no live track holds (FindingStep::overlapPairBelowHits). Returns
+/// the number dropped.
+std::uint32_t dropUnpairedShortTracks(FinderState& state, std::uint16_t step,
+                                      std::uint32_t belowHits);
+
 /// Runs the collector over every live track (in track order; a hit may go
 /// to two tracks of one particle built through different sensors), then
 /// mergeTracksSharingHits.
