@@ -12,7 +12,6 @@ namespace conftrack {
 
 namespace {
 
-/// Sorted ids of the hits used in the fit (outliers excluded).
 /// Throws for a track that is not a valid list of the event's hits: flags
 /// not parallel to the hits, an index outside the event, a hit held twice.
 /// The last is a finder bug that the evaluation would otherwise count
@@ -38,6 +37,8 @@ void checkTrackHits(std::span<const Hit> hits, const Track& track,
   }
 }
 
+/// Sorted ids of the hits used in the fit (outliers excluded); the track
+/// passed checkTrackHits.
 std::vector<std::uint64_t> usedHitIds(std::span<const Hit> hits,
                                       const Track& track) {
   std::vector<std::uint64_t> ids;
