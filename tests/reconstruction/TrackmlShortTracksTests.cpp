@@ -17,10 +17,7 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
-#include <set>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "TrackmlSample.hpp"
@@ -31,41 +28,17 @@ namespace {
 using test::event1001Particles;
 using test::simulateTrackml;
 
-/// A layer as the finder counts them: (subdetector, side, layer).
-using LayerKey = std::tuple<std::uint16_t, int, std::uint16_t>;
-
-LayerKey layerOf(const Hit& h) {
-  return {h.detId.subdetector, static_cast<int>(h.detId.side), h.detId.layer};
-}
-
-/// The prompt particles (produced within 1 mm of the beam line) whose 4 or
-/// 5 hits all lie in the pixels (r < 200 mm) on exactly three layers: a
-/// particle that ended after three layers and left an overlap pair.
-std::set<ParticleIndex> threeLayerParticles(const Event& event) {
-  std::map<ParticleIndex, std::vector<HitIndex>> hitsOf;
-  for (HitIndex h = 0; h < event.hits.size(); ++h) {
-    const ParticleIndex p = event.findParticle(event.truth[h].particleId);
-    if (p != kInvalidIndex) {
-      hitsOf[p].push_back(h);
+/// True if two hits of the track lie on one layer (an overlap pair).
+bool holdsAPair(const Event& event, const Track& track) {
+  for (std::size_t i = 1; i < track.hits.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (event.hits[track.hits[i]].detId.sameLayer(
+              event.hits[track.hits[j]].detId)) {
+        return true;
+      }
     }
   }
-  std::set<ParticleIndex> out;
-  for (const auto& [p, hits] : hitsOf) {
-    if (event.particles[p].vertex.head<2>().norm() >= 1.0 || hits.size() < 4 ||
-        hits.size() > 5) {
-      continue;
-    }
-    std::set<LayerKey> layers;
-    bool pixels = true;
-    for (HitIndex h : hits) {
-      layers.insert(layerOf(event.hits[h]));
-      pixels = pixels && event.hits[h].position.head<2>().norm() < 200.0;
-    }
-    if (pixels && layers.size() == 3) {
-      out.insert(p);
-    }
-  }
-  return out;
+  return false;
 }
 
 struct ShortTrackCount {
@@ -108,17 +81,24 @@ ShortTrackCount countShortTracks(const Event& event, bool withPixelShort) {
     lists.push_back(t.hits);
     if (withPixelShort && t.findingStep == shortStep && t.hits.size() < 5) {
       ++c.shortTracks;
-      std::set<LayerKey> layers;
-      for (HitIndex h : t.hits) {
-        layers.insert(layerOf(event.hits[h]));
-      }
-      c.unpaired += layers.size() == t.hits.size() ? 1 : 0;
+      c.unpaired += holdsAPair(event, t) ? 0 : 1;
     }
   }
-  const std::set<ParticleIndex> wanted = threeLayerParticles(event);
-  c.particles = wanted.size();
-  for (const TrackMatch& m : matchTracks(event, lists).tracks) {
-    if (m.matched && wanted.count(m.particle) != 0) {
+  // The prompt particles (produced within 1 mm of the beam line) with 4
+  // or 5 hits on exactly three layers: a particle that ended after three
+  // (pixel) layers and left an overlap pair.
+  const EventMatching matching = matchTracks(event, lists);
+  std::vector<std::uint8_t> wanted(event.particles.size(), 0);
+  for (std::size_t p = 0; p < event.particles.size(); ++p) {
+    const ParticleTruth& truth = matching.particles[p];
+    const bool threeLayers = event.particles[p].vertex.head<2>().norm() < 1.0 &&
+                             truth.nHits >= 4 && truth.nHits <= 5 &&
+                             truth.nLayers == 3;
+    wanted[p] = threeLayers ? 1 : 0;
+    c.particles += wanted[p];
+  }
+  for (const TrackMatch& m : matching.tracks) {
+    if (m.matched && wanted[m.particle] != 0) {
       ++c.found;
     }
   }

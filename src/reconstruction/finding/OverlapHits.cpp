@@ -392,42 +392,38 @@ std::uint32_t mergeTracksSharingHits(FinderState& state, StepStats& stats) {
 
 std::uint32_t dropUnpairedShortTracks(FinderState& state, std::uint16_t step,
                                       std::uint32_t belowHits) {
-  std::uint32_t dropped = 0;
-  std::vector<std::uint32_t> layers;
-  for (TrackCandidate& t : state.tracks) {
-    if (!t.alive || t.step != step || t.hits.size() >= belowHits) {
-      continue;
+  const ConformalHits& hits = state.hits;
+  auto paired = [&](const TrackCandidate& t) {
+    for (std::size_t i = 1; i < t.hits.size(); ++i) {
+      for (std::size_t j = 0; j < i; ++j) {
+        if (hits.sameLayer(t.hits[i], t.hits[j])) {
+          return true;
+        }
+      }
     }
-    layers.clear();
-    for (ConfIndex h : t.hits) {
-      layers.push_back(state.hits.layer[h]);
+    return false;
+  };
+  std::vector<std::uint32_t> dropped;
+  for (std::uint32_t k = 0; k < state.tracks.size(); ++k) {
+    TrackCandidate& t = state.tracks[k];
+    if (t.alive && t.step == step && t.hits.size() < belowHits && !paired(t)) {
+      t.alive = false;
+      dropped.push_back(k);
     }
-    std::sort(layers.begin(), layers.end());
-    if (std::adjacent_find(layers.begin(), layers.end()) != layers.end()) {
-      continue;  // an overlap pair
-    }
-    t.alive = false;
-    ++dropped;
   }
-  if (dropped == 0) {
-    return 0;
-  }
-  // Free the dropped tracks' hits, then claim again those of live tracks
-  // (a candidate may share hits with others of its step).
-  for (const TrackCandidate& t : state.tracks) {
-    if (!t.alive && t.step == step) {
-      for (ConfIndex h : t.hits) {
+  // Free the hits that no live track holds (candidates of one step may
+  // share hits), as for replaced clones.
+  for (std::uint32_t k : dropped) {
+    for (ConfIndex h : state.tracks[k].hits) {
+      if (!state.clones.held(h, state.tracks)) {
         state.used[h] = 0;
       }
     }
   }
-  state.compact();
-  for (const TrackCandidate& t : state.tracks) {
-    for (ConfIndex h : t.hits) {
-      state.used[h] = 1;
-    }
+  if (!dropped.empty()) {
+    state.compact();
   }
-  return dropped;
+  return static_cast<std::uint32_t>(dropped.size());
 }
 
 void addOverlapHits(FinderState& state, const HitPool& pool, StepStats& stats) {
