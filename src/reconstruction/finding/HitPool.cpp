@@ -58,6 +58,7 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
   for (ConfIndex i : m_byPhi) {
     m_phis.push_back(hits.phi[i]);
   }
+  m_phiCells.add(m_phis, 0, static_cast<std::uint32_t>(m_phis.size()));
   m_layerHits = m_members;
   std::sort(m_layerHits.begin(), m_layerHits.end(),
             [&](ConfIndex a, ConfIndex b) {
@@ -128,6 +129,14 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
       m_binPhis[slot] = m_layerPhis[i];
     }
     m_layerBins.push_back(b);
+  }
+  m_layerCells.reserve(m_layerRange.size(), m_layerPhis.size());
+  for (auto [begin, end] : m_layerRange) {
+    m_layerCells.add(m_layerPhis, begin, end);
+  }
+  m_binCells.reserve(m_binRange.size(), m_binPhis.size());
+  for (auto [begin, end] : m_binRange) {
+    m_binCells.add(m_binPhis, begin, end);
   }
   m_layerWs.resize(m_layerHits.size());
   for (std::size_t k = 0; k < m_layers.size(); ++k) {
@@ -218,8 +227,8 @@ void HitPool::discWindow(double u, double v, double radius, double phi,
     window.clear();
     const double half = all ? 2.0 * std::numbers::pi : halfWidth + 1e-9;
     if (rz == nullptr) {
-      auto [begin, end] = m_layerRange[k];
-      detail::collectPhiWindow(m_layerPhis, m_layerHits, begin, end, phi, half,
+      detail::collectPhiWindow(m_layerPhis, m_layerHits, m_layerCells,
+                               static_cast<std::uint32_t>(k), phi, half,
                                window);
     } else {
       const LayerBins& bins = m_layerBins[k];
@@ -251,8 +260,7 @@ void HitPool::discWindow(double u, double v, double radius, double phi,
 void HitPool::azimuthWindow(double phi, double halfWidth,
                             std::vector<ConfIndex>& out) const {
   out.clear();
-  detail::collectPhiWindow(m_phis, m_byPhi, 0, m_byPhi.size(), phi, halfWidth,
-                           out);
+  detail::collectPhiWindow(m_phis, m_byPhi, m_phiCells, 0, phi, halfWidth, out);
   auto dphi = [&](ConfIndex i) {
     double d = std::abs(m_hits->phi[i] - phi);
     return d > std::numbers::pi ? detail::kTwoPi - d : d;
@@ -272,9 +280,9 @@ void HitPool::layerWindow(std::uint32_t layer, double phi, double halfWidth,
   }
   const auto k = static_cast<std::size_t>(it - m_layers.begin());
   if (rz == nullptr) {
-    auto [begin, end] = m_layerRange[k];
-    detail::collectPhiWindow(m_layerPhis, m_layerHits, begin, end, phi,
-                             halfWidth, out);
+    detail::collectPhiWindow(m_layerPhis, m_layerHits, m_layerCells,
+                             static_cast<std::uint32_t>(k), phi, halfWidth,
+                             out);
     return;
   }
   const LayerBins& bins = m_layerBins[k];
@@ -316,17 +324,16 @@ void HitPool::collectLayer(std::size_t k, double wLo, double wHi, double phi,
   constexpr std::uint32_t kMaxBinSearches = 4;
   if (last - first + 1 <= kMaxBinSearches) {
     for (std::uint32_t n = first; n <= last; ++n) {
-      auto [begin, end] = m_binRange[bins.firstBin + n];
-      detail::collectPhiWindow(m_binPhis, m_binHits, begin, end, phi, halfWidth,
-                               out);
+      detail::collectPhiWindow(m_binPhis, m_binHits, m_binCells,
+                               bins.firstBin + n, phi, halfWidth, out);
     }
     return;
   }
   // The long coordinates are stored in the layer's azimuth order, so the
   // test reads them in sequence (not scattered over the event's hits).
-  auto [begin, end] = m_layerRange[k];
   const double* w = m_layerWs.data();
-  detail::forEachInPhiWindow(m_layerPhis, begin, end, phi, halfWidth,
+  detail::forEachInPhiWindow(m_layerPhis, m_layerCells,
+                             static_cast<std::uint32_t>(k), phi, halfWidth,
                              [&](std::size_t i) {
                                if (w[i] >= wLo && w[i] <= wHi) {
                                  out.push_back(m_layerHits[i]);

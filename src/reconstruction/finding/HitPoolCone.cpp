@@ -236,8 +236,8 @@ void HitPool::cone(double u, double v, double du, double dv, double halfAngle,
     }
     std::size_t before = out.size();
     if (!prepared) {
-      auto [begin, end] = m_layerRange[k];
-      detail::collectPhiWindow(m_layerPhis, m_layerHits, begin, end, centre,
+      detail::collectPhiWindow(m_layerPhis, m_layerHits, m_layerCells,
+                               static_cast<std::uint32_t>(k), centre,
                                half + kMargin, out);
     } else {
       collectLayer(k, wLo, wHi, centre, half + kMargin, out);

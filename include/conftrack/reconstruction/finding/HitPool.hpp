@@ -8,6 +8,7 @@
 /// (algorithm.md 2.4 and 14.2).
 
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
+#include "conftrack/reconstruction/finding/detail/PhiCells.hpp"
 
 #include <functional>
 #include <memory>
@@ -94,6 +95,11 @@ class HitPool {
   /// Members sorted by azimuth, and their azimuths.
   std::vector<ConfIndex> m_byPhi;
   std::vector<double> m_phis;
+  /// Azimuth cells of m_phis (one range), of m_layerPhis (range k: layer
+  /// k) and of m_binPhis (range n: bin n of m_binRange).
+  detail::PhiCells m_phiCells;
+  detail::PhiCells m_layerCells;
+  detail::PhiCells m_binCells;
   /// Per layer: [begin, end) into m_layerHits (sorted by azimuth).
   std::vector<std::uint32_t> m_layers;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_layerRange;

@@ -5,10 +5,12 @@
 /// HitPoolCone.cpp, HitPoolRz.cpp; internal).
 
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
+#include "conftrack/reconstruction/finding/detail/PhiCells.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -32,22 +34,12 @@ struct TrigCache {
   }
 };
 
-/// Calls visit(i) for each index i of the phi-sorted range [begin, end) of
-/// `phis` within halfWidth of phi, wrapping at +-pi, in the order of the
-/// range (from -pi on each side of the wrap).
-template <typename Visit>
-inline void forEachInPhiWindow(const std::vector<double>& phis,
-                               std::size_t begin, std::size_t end, double phi,
-                               double halfWidth, Visit&& visit) {
-  auto scan = [&](double lo, double hi) {
-    auto first = std::lower_bound(phis.begin() + begin, phis.begin() + end, lo);
-    auto last = std::upper_bound(first, phis.begin() + end, hi);
-    const auto firstIndex = static_cast<std::size_t>(first - phis.begin());
-    const auto lastIndex = static_cast<std::size_t>(last - phis.begin());
-    for (std::size_t i = firstIndex; i != lastIndex; ++i) {
-      visit(i);
-    }
-  };
+/// Calls scan(lo, hi) for each azimuth interval of the window of
+/// halfWidth about phi: one, or two where it wraps at +-pi (the part from
+/// -pi on each side of the wrap second), or [-2 pi, 2 pi] for a window of
+/// pi or more.
+template <typename Scan>
+inline void forEachPhiInterval(double phi, double halfWidth, Scan&& scan) {
   if (halfWidth >= std::numbers::pi) {
     scan(-kTwoPi, kTwoPi);
     return;
@@ -63,6 +55,41 @@ inline void forEachInPhiWindow(const std::vector<double>& phis,
   }
 }
 
+/// Calls visit(i) for each index i of the phi-sorted range [begin, end) of
+/// `phis` within halfWidth of phi, wrapping at +-pi, in the order of the
+/// range (from -pi on each side of the wrap).
+template <typename Visit>
+inline void forEachInPhiWindow(const std::vector<double>& phis,
+                               std::size_t begin, std::size_t end, double phi,
+                               double halfWidth, Visit&& visit) {
+  forEachPhiInterval(phi, halfWidth, [&](double lo, double hi) {
+    auto first = std::lower_bound(phis.begin() + begin, phis.begin() + end, lo);
+    auto last = std::upper_bound(first, phis.begin() + end, hi);
+    const auto firstIndex = static_cast<std::size_t>(first - phis.begin());
+    const auto lastIndex = static_cast<std::size_t>(last - phis.begin());
+    for (std::size_t i = firstIndex; i != lastIndex; ++i) {
+      visit(i);
+    }
+  });
+}
+
+/// The same over range `range` of `cells` (indexing `phis`): the same
+/// indices in the same order, each interval started by a cell lookup and
+/// ended by the visiting loop instead of two binary searches.
+template <typename Visit>
+inline void forEachInPhiWindow(const std::vector<double>& phis,
+                               const PhiCells& cells, std::uint32_t range,
+                               double phi, double halfWidth, Visit&& visit) {
+  const std::size_t end = cells.end(range);
+  forEachPhiInterval(phi, halfWidth, [&](double lo, double hi) {
+    // Up to the first entry above hi: std::upper_bound's end.
+    for (std::size_t i = cells.lowerBound(phis, range, lo);
+         i != end && !(hi < phis[i]); ++i) {
+      visit(i);
+    }
+  });
+}
+
 /// Appends the entries of the phi-sorted range [begin, end) of `phis`
 /// (ids parallel) within halfWidth of phi, wrapping at +-pi.
 inline void collectPhiWindow(const std::vector<double>& phis,
@@ -70,6 +97,16 @@ inline void collectPhiWindow(const std::vector<double>& phis,
                              std::size_t begin, std::size_t end, double phi,
                              double halfWidth, std::vector<ConfIndex>& out) {
   forEachInPhiWindow(phis, begin, end, phi, halfWidth,
+                     [&](std::size_t i) { out.push_back(ids[i]); });
+}
+
+/// The same over range `range` of `cells`.
+inline void collectPhiWindow(const std::vector<double>& phis,
+                             const std::vector<ConfIndex>& ids,
+                             const PhiCells& cells, std::uint32_t range,
+                             double phi, double halfWidth,
+                             std::vector<ConfIndex>& out) {
+  forEachInPhiWindow(phis, cells, range, phi, halfWidth,
                      [&](std::size_t i) { out.push_back(ids[i]); });
 }
 
