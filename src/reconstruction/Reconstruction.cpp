@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
+#include <stdexcept>
+#include <string>
 
 namespace conftrack {
 
@@ -30,49 +33,116 @@ Reconstruction::Reconstruction(const Detector& detector, Config config,
       m_finder(detector, {m_config.chain}),
       m_fitter(detector, m_config.fitter, std::move(sensors)),
       m_merger(m_fitter, m_config.merger),
-      m_selector(selectorConfig(m_config)) {}
+      m_selector(selectorConfig(m_config)) {
+  if (auto p =
+          findSecondPassProblem(m_config.secondPassSteps, m_config.chain)) {
+    throw std::invalid_argument("Reconstruction: key 'second_pass." + p->first +
+                                "': " + p->second);
+  }
+}
+
+std::optional<std::pair<std::string, std::string>>
+Reconstruction::findSecondPassProblem(
+    const std::vector<std::uint16_t>& secondPassSteps,
+    const FinderConfig& chain) {
+  for (std::size_t i = 0; i < secondPassSteps.size(); ++i) {
+    const std::uint16_t k = secondPassSteps[i];
+    if (k >= chain.steps.size()) {
+      return std::make_pair(std::string("steps"),
+                            "step index " + std::to_string(k) +
+                                " is not one of the chain's " +
+                                std::to_string(chain.steps.size()));
+    }
+    const FindingStep& step = chain.steps[k];
+    // A step without collections searches the pool of the step before
+    // it, which need not run in this pass; an extension alone finds no
+    // new track.
+    if (step.collections.empty() || !(step.build || step.helix)) {
+      return std::make_pair(std::string("steps"),
+                            "step '" + step.name +
+                                "' must build tracks (action build or "
+                                "helix) in collections of its own");
+    }
+    if (i > 0 && secondPassSteps[i - 1] >= k) {
+      return std::make_pair(
+          std::string("steps"),
+          "step '" + step.name + "' listed twice or out of the chain's order");
+    }
+  }
+  return std::nullopt;
+}
+
+void Reconstruction::fitAndSelect(std::span<const Hit> hits,
+                                  std::vector<FoundTrack> found,
+                                  Result& r) const {
+  using Clock = std::chrono::steady_clock;
+  r.candidates += found.size();
+  std::vector<Track> tracks;
+  if (m_config.fit) {
+    std::vector<FitInput> inputs;
+    inputs.reserve(found.size());
+    for (const FoundTrack& f : found) {
+      inputs.push_back(fitInput(f));
+    }
+    FittingResult fitted = m_fitter.run(hits, inputs);
+    r.fittingMs += fitted.milliseconds;
+    r.fitFailures += fitted.failures;
+    tracks.reserve(found.size());
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      tracks.push_back(withFit(found[i], std::move(fitted.tracks[i])));
+    }
+    // The candidates are no longer needed: free them before the selection.
+    std::vector<FoundTrack>().swap(found);
+    const auto mergeStart = Clock::now();
+    SplitTrackMerger::Result merged = m_merger.run(hits, std::move(tracks));
+    tracks = std::move(merged.tracks);
+    r.splitMerges += merged.merges;
+    r.fittingMs +=
+        std::chrono::duration<double, std::milli>(Clock::now() - mergeStart)
+            .count();
+  } else {
+    tracks.reserve(found.size());
+    for (const FoundTrack& f : found) {
+      tracks.push_back(toTrack(f));
+    }
+  }
+  auto t0 = Clock::now();
+  std::vector<Track> selected = m_selector.run(hits, std::move(tracks)).tracks;
+  r.selectionMs +=
+      std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  r.tracks.insert(r.tracks.end(), std::make_move_iterator(selected.begin()),
+                  std::make_move_iterator(selected.end()));
+}
 
 Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
-  using Clock = std::chrono::steady_clock;
   Result r;
   FindingResult found = m_finder.run(hits);
   r.findingMs = found.milliseconds;
   r.steps = std::move(found.steps);
   r.vertexRegions = std::move(found.vertexRegions);
-  r.candidates = found.tracks.size();
-  std::vector<Track> tracks;
-  if (m_config.fit) {
-    std::vector<FitInput> inputs;
-    inputs.reserve(found.tracks.size());
-    for (const FoundTrack& f : found.tracks) {
-      inputs.push_back(fitInput(f));
-    }
-    FittingResult fitted = m_fitter.run(hits, inputs);
-    r.fittingMs = fitted.milliseconds;
-    r.fitFailures = fitted.failures;
-    tracks.reserve(found.tracks.size());
-    for (std::size_t i = 0; i < found.tracks.size(); ++i) {
-      tracks.push_back(withFit(found.tracks[i], std::move(fitted.tracks[i])));
-    }
-    // The candidates are no longer needed: free them before the selection.
-    std::vector<FoundTrack>().swap(found.tracks);
-    const auto mergeStart = Clock::now();
-    SplitTrackMerger::Result merged = m_merger.run(hits, std::move(tracks));
-    tracks = std::move(merged.tracks);
-    r.splitMerges = merged.merges;
-    r.fittingMs +=
-        std::chrono::duration<double, std::milli>(Clock::now() - mergeStart)
-            .count();
-  } else {
-    tracks.reserve(found.tracks.size());
-    for (const FoundTrack& f : found.tracks) {
-      tracks.push_back(toTrack(f));
+  fitAndSelect(hits, std::move(found.tracks), r);
+  if (m_config.secondPassSteps.empty()) {
+    return r;
+  }
+  // The second pass: the chosen steps over the hits no selected track
+  // holds, the dropped candidates' hits among them.
+  std::vector<std::uint8_t> taken(hits.size(), 0);
+  for (const Track& t : r.tracks) {
+    for (HitIndex h : t.hits) {
+      taken[h] = 1;
     }
   }
-  auto t0 = Clock::now();
-  r.tracks = m_selector.run(hits, std::move(tracks)).tracks;
-  r.selectionMs =
-      std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  const ConformalTrackFinder::Pass pass{m_config.secondPassSteps, taken,
+                                        r.vertexRegions};
+  FindingResult second = m_finder.run(hits, pass);
+  r.findingMs += second.milliseconds;
+  for (StepStats& s : second.steps) {
+    s.name += "/2";
+    r.steps.push_back(std::move(s));
+  }
+  const std::size_t before = r.tracks.size();
+  fitAndSelect(hits, std::move(second.tracks), r);
+  r.secondPassTracks = r.tracks.size() - before;
   return r;
 }
 

@@ -21,6 +21,24 @@ std::uint32_t count(const ConfigTable& t, std::string_view key,
                Range::closed(0, std::numeric_limits<std::uint32_t>::max())));
 }
 
+/// Indices of the chain's steps named by the string array `key` of `t`,
+/// in the order given; an unknown name fails at the key.
+std::vector<std::uint16_t> stepIndices(const ConfigTable& t,
+                                       std::string_view key,
+                                       const FinderConfig& chain) {
+  std::vector<std::uint16_t> indices;
+  for (const std::string& name : t.getStringArray(key)) {
+    auto it =
+        std::find_if(chain.steps.begin(), chain.steps.end(),
+                     [&](const FindingStep& s) { return s.name == name; });
+    if (it == chain.steps.end()) {
+      t.fail(key, "no step named '" + name + "'");
+    }
+    indices.push_back(static_cast<std::uint16_t>(it - chain.steps.begin()));
+  }
+  return indices;
+}
+
 /// The [selection] table over `defaults`; the values' sense is checked by
 /// the TrackSelector constructor, whose message is located at the key.
 /// Step names (short_track_steps) are those of `chain`.
@@ -36,17 +54,7 @@ TrackSelector::Config readSelection(const ConfigTable& t,
       t.getDouble("short_track_max_chi2_ndf", c.shortTrackMaxChi2Ndf,
                   Range::positiveFinite());
   if (t.has("short_track_steps")) {
-    c.shortTrackSteps.clear();
-    for (const std::string& name : t.getStringArray("short_track_steps")) {
-      auto it =
-          std::find_if(chain.steps.begin(), chain.steps.end(),
-                       [&](const FindingStep& s) { return s.name == name; });
-      if (it == chain.steps.end()) {
-        t.fail("short_track_steps", "no step named '" + name + "'");
-      }
-      c.shortTrackSteps.push_back(
-          static_cast<std::uint16_t>(it - chain.steps.begin()));
-    }
+    c.shortTrackSteps = stepIndices(t, "short_track_steps", chain);
   }
   t.rejectUnknownKeys();
   if (std::optional<TrackSelector::Problem> p = TrackSelector::findProblem(c)) {
@@ -81,6 +89,19 @@ SplitTrackMerger::Config readSplitMerging(const ConfigTable& t,
   return c;
 }
 
+/// The [second_pass] table: names of the chain's steps (`chain`), checked
+/// by Reconstruction::findSecondPassProblem with the message located at the
+/// key.
+std::vector<std::uint16_t> readSecondPass(const ConfigTable& t,
+                                          const FinderConfig& chain) {
+  std::vector<std::uint16_t> steps = stepIndices(t, "steps", chain);
+  t.rejectUnknownKeys();
+  if (auto p = Reconstruction::findSecondPassProblem(steps, chain)) {
+    t.fail(p->first, p->second);
+  }
+  return steps;
+}
+
 }  // namespace
 
 Reconstruction::Config readReconstructionTable(const ConfigTable& root,
@@ -92,6 +113,9 @@ Reconstruction::Config readReconstructionTable(const ConfigTable& root,
   }
   if (std::optional<ConfigTable> merging = root.findTable("split_merging")) {
     config.merger = readSplitMerging(*merging, config.merger);
+  }
+  if (std::optional<ConfigTable> second = root.findTable("second_pass")) {
+    config.secondPassSteps = readSecondPass(*second, config.chain);
   }
   return config;
 }

@@ -355,6 +355,11 @@ const std::vector<BadInput>& cases() {
           {"ChainFirstStepWithoutCollections", chain("", "chi2_cut = 100"),
            kRecoIn + " --chain {dir}/chain.toml",
            R"(^\S+/chain\.toml:3: key 'step\[0\]\.collections': the first step must name its collections)"},
+          {"ChainSecondPassUnknownStep",
+           chain("\"VertexBarrel\"", "chi2_cut = 100",
+                 "[second_pass]\nsteps = [\"Helix\"]\n"),
+           kRecoIn + " --chain {dir}/chain.toml",
+           R"(^\S+/chain\.toml:\d+: key 'second_pass\.steps': no step named 'Helix'$)"},
           // ------------------------------------------------- command line
           {"EventsZero", nothing,
            "simulate --sample muons --events 0 -o {dir}/o",

@@ -122,15 +122,15 @@ TEST(TrackmlHitClaims, SharedHitResolutionGivesHitsBackToTheirTracks) {
   // short tracks through several real ones keep hits of those (often the
   // second hit of an overlap) until the selection drops them, and the
   // hits end on no track. Counted: hits of each kept track's majority
-  // particle. Measured 66,697 with the resolution (and its trimming,
-  // final_trim_shared_hits) against 66,340 without with the PixelShort step
-  // (66,552 and 66,196 before it, since the seed cells' z0 along the arc;
-  // 66,508 and 66,158 before that, since the pixel disks'
-  // inner ring of docs/validation.md item 13; 66,664 and 66,336 before it,
-  // with the real files' noise rate per sensor; 66,850 and 66,522 with 17
-  // % noise; the
-  // same since the simulation placed the layers' material (docs/validation.md
-  // items 11, 12; 68,187 and 67,840 before, 66,669 and 66,383 before the helix
+  // particle. Measured 67,068 with the resolution (and its trimming,
+  // final_trim_shared_hits) against 66,786 without with the second pass
+  // after the selection (66,697 and 66,340 before it, with the PixelShort
+  // step; 66,552 and 66,196 before that, since the seed cells' z0 along the
+  // arc; 66,508 and 66,158 before that, since the pixel disks' inner ring of
+  // docs/validation.md item 13; 66,664 and 66,336 before it, with the real
+  // files' noise rate per sensor; 66,850 and 66,522 with 17 % noise; the same
+  // since the simulation placed the layers' material (docs/validation.md items
+  // 11, 12; 68,187 and 67,840 before, 66,669 and 66,383 before the helix
   // changes of stop 39). Guarded at +150.
   const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
   ASSERT_NE(hllhc, nullptr);

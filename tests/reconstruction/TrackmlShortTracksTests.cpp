@@ -66,6 +66,9 @@ ShortTrackCount countShortTracks(const Event& event, bool withPixelShort) {
   if (!withPixelShort && it != steps.end()) {
     steps.erase(it);
   }
+  // The step's own effect: without the second pass after the selection,
+  // which runs PixelShort again (SecondPassTests.cpp).
+  config.secondPassSteps.clear();
   const Reconstruction::Result result =
       Reconstruction(detector, config).run(event.hits);
 

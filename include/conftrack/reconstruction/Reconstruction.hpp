@@ -14,11 +14,14 @@
 #include "conftrack/reconstruction/selection/SplitTrackMerger.hpp"
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace conftrack {
@@ -44,6 +47,14 @@ class Reconstruction {
     /// Fit the candidates; without it the tracks carry only the finder's
     /// estimates and the selection keeps unfitted tracks.
     bool fit = true;
+    /// Steps of the chain (indices, ascending, each once) that run again
+    /// after the selection over the hits no selected track holds (chain
+    /// file [second_pass] steps; none by default): candidates that the
+    /// fit or the selection drop held hits while the later steps ran,
+    /// and particles whose hits they held are found only once those hits
+    /// are free (algorithm.md 3.21). The new tracks are fitted and
+    /// selected like the first ones and follow them.
+    std::vector<std::uint16_t> secondPassSteps;
   };
 
   /// Output of one event.
@@ -51,6 +62,9 @@ class Reconstruction {
     std::vector<Track> tracks;
     /// Per finding step: counters and time.
     std::vector<StepStats> steps;
+    /// Tracks of the second pass (Config::secondPassSteps), the last ones
+    /// of `tracks`.
+    std::size_t secondPassTracks = 0;
     /// The finder's vertex regions (FindingResult::vertexRegions).
     std::vector<std::pair<double, double>> vertexRegions;
     std::size_t candidates = 0;
@@ -74,9 +88,22 @@ class Reconstruction {
   /// Reconstructs the tracks of one event. Thread-safe (const).
   Result run(std::span<const Hit> hits) const;
 
+  /// The first problem of `secondPassSteps` for `chain` as (chain-file key
+  /// of [second_pass], what); nothing if valid. The steps must exist, be
+  /// ascending without repeats, and find tracks (build or helix) in
+  /// collections of their own.
+  static std::optional<std::pair<std::string, std::string>>
+  findSecondPassProblem(const std::vector<std::uint16_t>& secondPassSteps,
+                        const FinderConfig& chain);
+
   const Config& config() const { return m_config; }
 
  private:
+  /// Fits, merges and selects the finder's tracks of one pass into `r`
+  /// (tracks appended; counters and times added).
+  void fitAndSelect(std::span<const Hit> hits, std::vector<FoundTrack> found,
+                    Result& r) const;
+
   Config m_config;
   ConformalTrackFinder m_finder;
   KalmanFitter m_fitter;

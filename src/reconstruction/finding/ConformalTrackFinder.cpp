@@ -10,6 +10,7 @@
 #include <chrono>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace conftrack {
 
@@ -54,6 +55,21 @@ double msSince(Clock::time_point t0) {
 }  // namespace
 
 FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
+  return find(hits, nullptr);
+}
+
+FindingResult ConformalTrackFinder::run(std::span<const Hit> hits,
+                                        const Pass& pass) const {
+  if (pass.taken.size() != hits.size()) {
+    throw std::invalid_argument(
+        "ConformalTrackFinder::run: " + std::to_string(pass.taken.size()) +
+        " taken flags for " + std::to_string(hits.size()) + " hits");
+  }
+  return find(hits, &pass);
+}
+
+FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
+                                         const Pass* pass) const {
   const auto tEvent = Clock::now();
   const FinderConfig& chain = m_config.chain;
   ConformalHits conformal =
@@ -63,12 +79,25 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits) const {
   state.bending = m_bending.get();
 
   FindingResult result;
-  if (chain.vertexPrepass) {
+  if (pass != nullptr) {
+    for (ConfIndex h = 0; h < conformal.size(); ++h) {
+      if (pass->taken[conformal.original[h]] != 0) {
+        state.used[h] = detail::FinderState::kReserved;
+      }
+    }
+    state.vertexRegions.assign(pass->vertexRegions.begin(),
+                               pass->vertexRegions.end());
+    result.vertexRegions = state.vertexRegions;
+  } else if (chain.vertexPrepass) {
     result.steps.push_back(detail::findVertexRegions(state));
     result.vertexRegions = state.vertexRegions;
   }
   std::optional<HitPool> pool;
   for (std::size_t i = 0; i < chain.steps.size(); ++i) {
+    if (pass != nullptr &&
+        !std::binary_search(pass->steps.begin(), pass->steps.end(), i)) {
+      continue;
+    }
     const FindingStep& step = chain.steps[i];
     const auto tStep = Clock::now();
     StepStats stats;

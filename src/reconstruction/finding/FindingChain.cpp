@@ -235,11 +235,13 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
   if (prepass) {
     cfg.vertexPrepass = readVertexPrepass(*prepass, detector);
   }
-  // [selection] and [split_merging] belong to the track selection and the
-  // merging after the fit of the same file (readReconstructionConfig); the
-  // finder has no use for them.
+  // [selection], [split_merging] and [second_pass] belong to the track
+  // selection, the merging after the fit and the pass after the selection
+  // of the same file (readReconstructionConfig); the finder has no use for
+  // them.
   (void)root.findTable("selection");
   (void)root.findTable("split_merging");
+  (void)root.findTable("second_pass");
   std::vector<ConfigTable> steps = root.getTableArray("step");
   for (const ConfigTable& step : steps) {
     cfg.steps.push_back(readStep(step, detector));

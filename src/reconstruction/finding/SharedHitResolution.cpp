@@ -94,9 +94,10 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
   if (dropped > 0 || trimmed > 0) {
     state.compact();  // also re-indexes the trimmed tracks' hits
   }
-  // Every used hit that no kept track holds goes back to the pool.
+  // Every used hit that no kept track holds goes back to the pool (not
+  // those an earlier pass's tracks hold).
   for (ConfIndex h = 0; h < state.hits.size(); ++h) {
-    if (!rules.claimed(h)) {
+    if (!rules.claimed(h) && state.used[h] != FinderState::kReserved) {
       state.used[h] = 0;
     }
   }

@@ -11,8 +11,10 @@
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 #include "conftrack/reconstruction/finding/TrackCandidate.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace conftrack {
@@ -59,13 +61,33 @@ class ConformalTrackFinder {
   /// (findChainProblem), naming the chain-file key of the problem.
   ConformalTrackFinder(const Detector& detector, Config config);
 
+  /// A later pass over the hits that earlier tracks left
+  /// (Reconstruction's second pass, algorithm.md 3.21).
+  struct Pass {
+    /// The steps that run: indices into the chain's steps, ascending.
+    std::span<const std::uint16_t> steps;
+    /// One flag per hit of `hits` (same order): non-zero where an earlier
+    /// track holds it. No step takes such a hit.
+    std::span<const std::uint8_t> taken;
+    /// The event's vertex regions (FindingResult::vertexRegions of the
+    /// first pass), in place of the pre-pass.
+    std::span<const std::pair<double, double>> vertexRegions;
+  };
+
   /// Finds tracks among `hits`. The result does not depend on the order of
   /// the hits or on the number of threads.
   FindingResult run(std::span<const Hit> hits) const;
+  /// The same with only the steps of `pass`, over the hits it leaves free;
+  /// the stages after the steps (shared-hit resolution, hole filling,
+  /// merging) see only the tracks of this pass. Throws
+  /// std::invalid_argument if `taken` does not have one flag per hit.
+  FindingResult run(std::span<const Hit> hits, const Pass& pass) const;
 
   const Config& config() const { return m_config; }
 
  private:
+  FindingResult find(std::span<const Hit> hits, const Pass* pass) const;
+
   const Detector* m_detector;
   Config m_config;
   /// The field's bending factors (FinderConfig::fieldCorrection); null in

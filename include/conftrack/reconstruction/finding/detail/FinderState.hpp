@@ -58,7 +58,10 @@ struct FinderState {
   /// The bending factors the hits were mapped with (makeConformalHits);
   /// null in a uniform field or without FinderConfig::fieldCorrection.
   const PromptBending* bending = nullptr;
+  /// Per hit: 0 free, 1 on a track or claimed, kReserved held by a track
+  /// of an earlier pass (ConformalTrackFinder::Pass), never released.
   std::vector<std::uint8_t> used;
+  static constexpr std::uint8_t kReserved = 2;
   std::vector<TrackCandidate> tracks;
   CloneIndex clones;
   /// Vertex regions of the event from the vertex-z pre-pass ([lo, hi] in
