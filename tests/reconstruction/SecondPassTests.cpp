@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -85,6 +86,15 @@ TEST(SecondPass, ChainFileTable) {
   const std::vector<std::uint8_t> taken(2, 0);
   EXPECT_THROW(finder.run(hits, {c.secondPassSteps, taken, {}}),
                std::invalid_argument);
+  // ... and steps that are not ascending indices of the chain's.
+  const std::vector<std::uint8_t> none(3, 0);
+  const std::vector<std::uint16_t> repeated = {0, 0};
+  const std::vector<std::uint16_t> outside = {0, 5};
+  EXPECT_THROW(finder.run(hits, {repeated, none, {}}), std::invalid_argument);
+  EXPECT_THROW(finder.run(hits, {outside, none, {}}), std::invalid_argument);
+  const FindingResult empty =
+      finder.run(std::span<const Hit>(), {c.secondPassSteps, {}, {}});
+  EXPECT_TRUE(empty.tracks.empty());
 }
 
 struct PassResult {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -64,6 +65,15 @@ FindingResult ConformalTrackFinder::run(std::span<const Hit> hits,
     throw std::invalid_argument(
         "ConformalTrackFinder::run: " + std::to_string(pass.taken.size()) +
         " taken flags for " + std::to_string(hits.size()) + " hits");
+  }
+  // The step loop looks its steps up by binary search.
+  if (std::adjacent_find(pass.steps.begin(), pass.steps.end(),
+                         std::greater_equal<>()) != pass.steps.end() ||
+      (!pass.steps.empty() &&
+       pass.steps.back() >= m_config.chain.steps.size())) {
+    throw std::invalid_argument(
+        "ConformalTrackFinder::run: the pass's steps must be indices of the "
+        "chain's steps, ascending without repeats");
   }
   return find(hits, &pass);
 }

@@ -80,7 +80,8 @@ class ConformalTrackFinder {
   /// The same with only the steps of `pass`, over the hits it leaves free;
   /// the stages after the steps (shared-hit resolution, hole filling,
   /// merging) see only the tracks of this pass. Throws
-  /// std::invalid_argument if `taken` does not have one flag per hit.
+  /// std::invalid_argument if `taken` does not have one flag per hit or
+  /// the steps are not ascending indices of the chain's steps.
   FindingResult run(std::span<const Hit> hits, const Pass& pass) const;
 
   const Config& config() const { return m_config; }
