@@ -64,7 +64,8 @@ TEST(TrackmlHitClaims, SteepLowMomentumTracksTakeBothHitsOfAnOverlap) {
   // hit errors: the overlap search judges the pair with that scattering
   // (overlapScatteringVariance). Counted: pixel-barrel layers where a
   // particle left two hits and its track (the majority) holds both.
-  // Measured 351 of 410 with the scattering (337 before the PixelShort
+  // Measured 354 of 410 with the scattering (351 before the shared-hit
+  // resolution after every step, 337 before the PixelShort
   // step, 339 before the seed cells' z0 along the arc) against 312 without (the
   // rest: a pair's first hit left off the track, or both hits taken by
   // another particle's track; 352 and 325 of 401 before the simulation
@@ -122,10 +123,12 @@ TEST(TrackmlHitClaims, SharedHitResolutionGivesHitsBackToTheirTracks) {
   // short tracks through several real ones keep hits of those (often the
   // second hit of an overlap) until the selection drops them, and the
   // hits end on no track. Counted: hits of each kept track's majority
-  // particle. Measured 67,068 with the resolution (and its trimming,
-  // final_trim_shared_hits) against 66,786 without with the second pass
-  // after the selection (66,697 and 66,340 before it, with the PixelShort
-  // step; 66,552 and 66,196 before that, since the seed cells' z0 along the
+  // particle. Measured 67,419 with the resolution (after every step, as
+  // shipped, and with its trimming, final_trim_shared_hits) against 66,509
+  // without (67,068 and 66,786 with the resolution after the last step
+  // only and Helix in the second pass after the selection; 66,697 and
+  // 66,340 before that, with the PixelShort step; 66,552 and 66,196 before
+  // it, since the seed cells' z0 along the
   // arc; 66,508 and 66,158 before that, since the pixel disks' inner ring of
   // docs/validation.md item 13; 66,664 and 66,336 before it, with the real
   // files' noise rate per sensor; 66,850 and 66,522 with 17 % noise; the same
@@ -142,8 +145,10 @@ TEST(TrackmlHitClaims, SharedHitResolutionGivesHitsBackToTheirTracks) {
         readReconstructionConfig(resolveChainPath("trackml"), detector);
     EXPECT_EQ(config.chain.finalMinUniqueHits, 6u);
     config.chain.finalMinUniqueHits = minUnique;
-    // Trimming needs the resolution (final_trim_shared_hits).
+    // Trimming and the resolution after every step need the resolution
+    // (final_trim_shared_hits, shared_hits_each_step).
     config.chain.finalTrimSharedHits = minUnique > 0;
+    config.chain.sharedHitsEachStep = minUnique > 0;
     const Reconstruction reco(detector, config);
     const Reconstruction::Result result = reco.run(event.hits);
     FindingResult found;

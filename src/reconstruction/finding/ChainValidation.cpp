@@ -265,6 +265,11 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
                         "needs final_min_unique_hits (the hits a trimmed "
                         "track must keep)"};
   }
+  if (c.sharedHitsEachStep && c.finalMinUniqueHits == 0) {
+    return ChainProblem{std::nullopt, "finder.shared_hits_each_step",
+                        "needs final_min_unique_hits (the resolution's "
+                        "rule)"};
+  }
   if (c.vertexPrepass) {
     if (auto p = VertexZPrepass::findProblem(*c.vertexPrepass, detector)) {
       return ChainProblem{std::nullopt, "vertex_prepass." + p->first,

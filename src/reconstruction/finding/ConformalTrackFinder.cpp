@@ -103,6 +103,9 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
     result.vertexRegions = state.vertexRegions;
   }
   std::optional<HitPool> pool;
+  const std::size_t lastStep = pass != nullptr && !pass->steps.empty()
+                                   ? pass->steps.back()
+                                   : chain.steps.size() - 1;
   for (std::size_t i = 0; i < chain.steps.size(); ++i) {
     if (pass != nullptr &&
         !std::binary_search(pass->steps.begin(), pass->steps.end(), i)) {
@@ -166,6 +169,17 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
           state.used[h] = 1;
         }
       }
+    }
+    // The tracks the shared-hit resolution drops give their hits back
+    // before the next step, not only at the end (sharedHitsEachStep; after
+    // the last step the final resolution below runs).
+    if (chain.sharedHitsEachStep && chain.finalMinUniqueHits > 0 &&
+        i != lastStep && !state.tracks.empty()) {
+      stats.droppedTracks +=
+          detail::SharedHitResolution({chain.cloneSharedHits,
+                                       chain.finalMinUniqueHits,
+                                       chain.finalTrimSharedHits})
+              .run(state);
     }
     stats.hitsUsed = static_cast<std::uint64_t>(
         std::count(state.used.begin(), state.used.end(), 1));

@@ -208,6 +208,8 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
                  Range::closed(0, 100)));
     cfg.finalTrimSharedHits =
         f.getBool("final_trim_shared_hits", cfg.finalTrimSharedHits);
+    cfg.sharedHitsEachStep =
+        f.getBool("shared_hits_each_step", cfg.sharedHitsEachStep);
     cfg.scatteringAllowance =
         f.getBool("scattering_allowance", cfg.scatteringAllowance);
     cfg.inwardScatteringAllowance =

@@ -313,6 +313,13 @@ struct FinderConfig {
   /// share a pair of hits (one took the other's on a disk) are no clones:
   /// the worse one loses those hits, not its own.
   bool finalTrimSharedHits = false;
+  /// With finalMinUniqueHits: the same shared-hit resolution runs after
+  /// every step too, not only after the last (finder key
+  /// shared_hits_each_step; off by default). The tracks it drops held hits
+  /// while the later steps ran: on TrackML 419 tracks of event 1001 before
+  /// the helix step alone, whose particles those steps then missed
+  /// (algorithm.md 3.13).
+  bool sharedHitsEachStep = false;
   /// Extensions and hole filling allow for multiple scattering in the
   /// material of the layer before a candidate hit (Highland, with the
   /// track's momentum estimate) in its chi2 increments. A conftrack

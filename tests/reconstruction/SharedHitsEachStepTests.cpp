@@ -1,0 +1,102 @@
+/// @file SharedHitsEachStepTests.cpp
+/// The finder's shared-hit resolution after every step ([finder]
+/// shared_hits_each_step, docs/algorithm.md 3.13), not only after the
+/// last: the tracks it drops held hits while the later steps ran. Event
+/// 1001's particles through the module-level TrackML simulation with the
+/// real noise rate, as `conftrack simulate-trackml`.
+
+#include "conftrack/core/Error.hpp"
+#include "conftrack/evaluation/TrackmlScore.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
+#include "conftrack/reconstruction/finding/StepStats.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "ChainText.hpp"
+#include "TrackmlSample.hpp"
+
+namespace conftrack {
+namespace {
+
+TEST(SharedHitsEachStep, ChainKey) {
+  const Detector det = loadDetector("clicdet");
+  const std::string step = minimalStep("VertexBarrel");
+  EXPECT_FALSE(parseChain(step, "c.toml", det).sharedHitsEachStep);
+  EXPECT_TRUE(parseChain("[finder]\nfinal_min_unique_hits = 6\n"
+                         "shared_hits_each_step = true\n" +
+                             step,
+                         "c.toml", det)
+                  .sharedHitsEachStep);
+  // It runs the final resolution's rule, which must be on.
+  try {
+    parseChain("[finder]\nshared_hits_each_step = true\n" + step, "c.toml",
+               det);
+    ADD_FAILURE() << "accepted without final_min_unique_hits";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("c.toml:2"), std::string::npos) << what;
+    EXPECT_NE(what.find("finder.shared_hits_each_step"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("needs final_min_unique_hits"), std::string::npos)
+        << what;
+  }
+}
+
+struct Outcome {
+  TrackmlScore score;
+  std::uint64_t droppedAfterPixelPrompt = 0;
+};
+
+Outcome reconstruct(const Event& event, bool eachStep) {
+  const Detector detector = loadDetector("trackml");
+  Reconstruction::Config config =
+      readReconstructionConfig(resolveChainPath("trackml"), detector);
+  EXPECT_TRUE(config.chain.sharedHitsEachStep)
+      << "the shipped chain resolves shared hits after the last step only";
+  config.chain.sharedHitsEachStep = eachStep;
+  const Reconstruction::Result result =
+      Reconstruction(detector, config).run(event.hits);
+  Outcome out;
+  std::vector<std::vector<HitIndex>> lists;
+  for (const Track& t : result.tracks) {
+    lists.push_back(t.hits);
+  }
+  out.score = scoreTrackml(event, lists);
+  for (const StepStats& s : result.steps) {
+    if (s.name == "PixelPrompt") {
+      out.droppedAfterPixelPrompt = s.droppedTracks;
+    }
+  }
+  return out;
+}
+
+TEST(SharedHitsEachStep, LaterStepsFindTheParticlesOfDroppedTracksHits) {
+  const Event event = test::simulateTrackml(test::event1001Particles(),
+                                            test::SampleNoise::eReal);
+  const Outcome with = reconstruct(event, true);
+  const Outcome without = reconstruct(event, false);
+  std::printf(
+      "[ shared hits each step, event 1001 ] TrackML score %.4f with, %.4f "
+      "without; fake rate %.4f, %.4f; tracks dropped after PixelPrompt "
+      "%llu\n",
+      with.score.score, without.score.score, with.score.fakeRate,
+      without.score.fakeRate,
+      static_cast<unsigned long long>(with.droppedAfterPixelPrompt));
+  // Measured: 424 tracks dropped after PixelPrompt (none without: the
+  // resolution then runs after the last step only); score 0.8882 ->
+  // 0.8929, fake rate 0.0189 -> 0.0168 (five events: +0.0059 at sigma_z
+  // 5.5 mm, +0.0153 at 50 mm). Guarded at about half the gain, and the
+  // fake rate no higher.
+  EXPECT_GT(with.droppedAfterPixelPrompt, 200u);
+  EXPECT_EQ(without.droppedAfterPixelPrompt, 0u);
+  EXPECT_GE(with.score.score - without.score.score, 0.002);
+  EXPECT_LE(with.score.fakeRate, without.score.fakeRate + 0.001);
+}
+
+}  // namespace
+}  // namespace conftrack
