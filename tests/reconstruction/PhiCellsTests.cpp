@@ -117,8 +117,16 @@ TEST(PhiCells, WindowsVisitTheSameEntriesInTheSameOrder) {
     for (std::uint32_t r = 0; r < sizes.size(); ++r) {
       std::vector<std::size_t> expected;
       std::vector<std::size_t> got;
-      forEachInPhiWindow(phis, begins[r], begins[r] + sizes[r], phi, half,
-                         [&](std::size_t k) { expected.push_back(k); });
+      // Reference: two binary searches per interval.
+      const auto first = phis.begin() + begins[r];
+      const auto last = first + sizes[r];
+      forEachPhiInterval(phi, half, [&](double lo, double hi) {
+        const auto from = std::lower_bound(first, last, lo);
+        const auto to = std::upper_bound(from, last, hi);
+        for (auto it = from; it != to; ++it) {
+          expected.push_back(static_cast<std::size_t>(it - phis.begin()));
+        }
+      });
       forEachInPhiWindow(phis, cells, r, phi, half,
                          [&](std::size_t k) { got.push_back(k); });
       EXPECT_EQ(got, expected)

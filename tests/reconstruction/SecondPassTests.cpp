@@ -126,11 +126,7 @@ PassResult reconstruct(const Event& event, bool secondPass) {
   }
   PassResult out;
   out.result = Reconstruction(detector, config).run(event.hits);
-  std::vector<std::vector<HitIndex>> lists;
-  for (const Track& t : out.result.tracks) {
-    lists.push_back(t.hits);
-  }
-  out.score = scoreTrackml(event, lists);
+  out.score = scoreTrackml(event, test::hitLists(out.result.tracks));
   return out;
 }
 

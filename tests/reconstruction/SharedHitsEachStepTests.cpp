@@ -62,11 +62,7 @@ Outcome reconstruct(const Event& event, bool eachStep) {
   const Reconstruction::Result result =
       Reconstruction(detector, config).run(event.hits);
   Outcome out;
-  std::vector<std::vector<HitIndex>> lists;
-  for (const Track& t : result.tracks) {
-    lists.push_back(t.hits);
-  }
-  out.score = scoreTrackml(event, lists);
+  out.score = scoreTrackml(event, test::hitLists(result.tracks));
   for (const StepStats& s : result.steps) {
     if (s.name == "PixelPrompt") {
       out.droppedAfterPixelPrompt = s.droppedTracks;

@@ -223,12 +223,7 @@ TrackmlScore scoreEvent1001(const char* label,
                         std::chrono::steady_clock::now() - t0)
                         .count();
 
-  std::vector<std::vector<HitIndex>> tracks;
-  tracks.reserve(result.tracks.size());
-  for (const Track& t : result.tracks) {
-    tracks.push_back(t.hits);
-  }
-  const TrackmlScore score = scoreTrackml(event, tracks);
+  const TrackmlScore score = scoreTrackml(event, test::hitLists(result.tracks));
   if (truncation != nullptr) {
     *truncation = describeTruncation(result.steps);
   }

@@ -114,17 +114,26 @@ inline Event simulateTrackml(
       .simulate(1001, particles);
 }
 
+/// The hit lists of `tracks` (Track or FoundTrack), as the evaluation's
+/// matching and the TrackML score take them.
+template <typename TrackType>
+std::vector<std::vector<HitIndex>> hitLists(
+    const std::vector<TrackType>& tracks) {
+  std::vector<std::vector<HitIndex>> lists;
+  lists.reserve(tracks.size());
+  for (const TrackType& t : tracks) {
+    lists.push_back(t.hits);
+  }
+  return lists;
+}
+
 /// Hits of their majority particle on the found tracks, summed (tracks
 /// whose majority is noise count none), by the evaluation's matching.
 inline std::size_t majorityHits(const Event& event,
                                 const FindingResult& found) {
-  std::vector<std::vector<HitIndex>> lists;
-  lists.reserve(found.tracks.size());
-  for (const FoundTrack& t : found.tracks) {
-    lists.push_back(t.hits);
-  }
   std::size_t own = 0;
-  for (const TrackMatch& m : matchTracks(event, lists).tracks) {
+  for (const TrackMatch& m :
+       matchTracks(event, hitLists(found.tracks)).tracks) {
     own += m.particle != kInvalidIndex ? m.nMajority : 0;
   }
   return own;

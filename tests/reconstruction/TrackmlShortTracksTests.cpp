@@ -79,9 +79,7 @@ ShortTrackCount countShortTracks(const Event& event, bool withPixelShort) {
       c.dropped = s.droppedTracks;
     }
   }
-  std::vector<std::vector<HitIndex>> lists;
   for (const Track& t : result.tracks) {
-    lists.push_back(t.hits);
     if (withPixelShort && t.findingStep == shortStep && t.hits.size() < 5) {
       ++c.shortTracks;
       c.unpaired += holdsAPair(event, t) ? 0 : 1;
@@ -90,7 +88,8 @@ ShortTrackCount countShortTracks(const Event& event, bool withPixelShort) {
   // The prompt particles (produced within 1 mm of the beam line) with 4
   // or 5 hits on exactly three layers: a particle that ended after three
   // (pixel) layers and left an overlap pair.
-  const EventMatching matching = matchTracks(event, lists);
+  const EventMatching matching =
+      matchTracks(event, test::hitLists(result.tracks));
   std::vector<std::uint8_t> wanted(event.particles.size(), 0);
   for (std::size_t p = 0; p < event.particles.size(); ++p) {
     const ParticleTruth& truth = matching.particles[p];

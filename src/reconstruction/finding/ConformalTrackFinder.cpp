@@ -103,6 +103,14 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
     result.vertexRegions = state.vertexRegions;
   }
   std::optional<HitPool> pool;
+  // The shared-hit resolution after the steps (finalMinUniqueHits; none
+  // if 0), and with sharedHitsEachStep after each of them.
+  std::optional<detail::SharedHitResolution> sharedHits;
+  if (chain.finalMinUniqueHits > 0) {
+    sharedHits.emplace(detail::SharedHitResolution::Config{
+        chain.cloneSharedHits, chain.finalMinUniqueHits,
+        chain.finalTrimSharedHits});
+  }
   const std::size_t lastStep = pass != nullptr && !pass->steps.empty()
                                    ? pass->steps.back()
                                    : chain.steps.size() - 1;
@@ -173,13 +181,9 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
     // The tracks the shared-hit resolution drops give their hits back
     // before the next step, not only at the end (sharedHitsEachStep; after
     // the last step the final resolution below runs).
-    if (chain.sharedHitsEachStep && chain.finalMinUniqueHits > 0 &&
-        i != lastStep && !state.tracks.empty()) {
-      stats.droppedTracks +=
-          detail::SharedHitResolution({chain.cloneSharedHits,
-                                       chain.finalMinUniqueHits,
-                                       chain.finalTrimSharedHits})
-              .run(state);
+    if (sharedHits && chain.sharedHitsEachStep && i != lastStep &&
+        !state.tracks.empty()) {
+      stats.droppedTracks += sharedHits->run(state);
     }
     stats.hitsUsed = static_cast<std::uint64_t>(
         std::count(state.used.begin(), state.used.end(), 1));
@@ -187,14 +191,11 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
     result.steps.push_back(std::move(stats));
   }
 
-  if (chain.finalMinUniqueHits > 0 && !state.tracks.empty()) {
+  if (sharedHits && !state.tracks.empty()) {
     const auto tStep = Clock::now();
     StepStats stats;
     stats.name = "SharedHits";
-    const detail::SharedHitResolution resolution({chain.cloneSharedHits,
-                                                  chain.finalMinUniqueHits,
-                                                  chain.finalTrimSharedHits});
-    stats.droppedTracks = resolution.run(state);
+    stats.droppedTracks = sharedHits->run(state);
     stats.hitsUsed = static_cast<std::uint64_t>(
         std::count(state.used.begin(), state.used.end(), 1));
     stats.milliseconds = msSince(tStep);

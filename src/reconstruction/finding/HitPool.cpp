@@ -85,6 +85,8 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
   constexpr std::size_t kHitsPerBin = 32;
   constexpr std::size_t kMaxBins = 256;
   m_binHits.reserve(m_layerHits.size());
+  m_binCells.reserve(m_layerHits.size() / kHitsPerBin + m_layers.size(),
+                     m_layerHits.size());
   m_binPhis.reserve(m_layerHits.size());
   std::vector<std::uint32_t> binOfHit;
   for (std::size_t k = 0; k < m_layers.size(); ++k) {
@@ -108,7 +110,6 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
     if (!(b.binWidth > 0.0)) {
       b.nBins = 1;
     }
-    b.firstBin = static_cast<std::uint32_t>(m_binRange.size());
     binOfHit.resize(end - begin);
     std::vector<std::uint32_t> count(b.nBins + 1, 0);
     for (std::uint32_t i = begin; i < end; ++i) {
@@ -117,10 +118,8 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
       ++count[binOfHit[i - begin] + 1];
     }
     std::partial_sum(count.begin(), count.end(), count.begin());
+    const std::vector<std::uint32_t> binStart = count;
     auto offset = static_cast<std::uint32_t>(m_binHits.size());
-    for (std::uint32_t n = 0; n < b.nBins; ++n) {
-      m_binRange.emplace_back(offset + count[n], offset + count[n + 1]);
-    }
     m_binHits.resize(offset + (end - begin));
     m_binPhis.resize(offset + (end - begin));
     for (std::uint32_t i = begin; i < end; ++i) {
@@ -128,15 +127,19 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
       m_binHits[slot] = m_layerHits[i];
       m_binPhis[slot] = m_layerPhis[i];
     }
+    // The bins' ranges live in their azimuth cells (ids from firstBin).
+    for (std::uint32_t n = 0; n < b.nBins; ++n) {
+      const std::uint32_t id = m_binCells.add(m_binPhis, offset + binStart[n],
+                                              offset + binStart[n + 1]);
+      if (n == 0) {
+        b.firstBin = id;
+      }
+    }
     m_layerBins.push_back(b);
   }
   m_layerCells.reserve(m_layerRange.size(), m_layerPhis.size());
   for (auto [begin, end] : m_layerRange) {
     m_layerCells.add(m_layerPhis, begin, end);
-  }
-  m_binCells.reserve(m_binRange.size(), m_binPhis.size());
-  for (auto [begin, end] : m_binRange) {
-    m_binCells.add(m_binPhis, begin, end);
   }
   m_layerWs.resize(m_layerHits.size());
   for (std::size_t k = 0; k < m_layers.size(); ++k) {

@@ -96,7 +96,7 @@ class HitPool {
   std::vector<ConfIndex> m_byPhi;
   std::vector<double> m_phis;
   /// Azimuth cells of m_phis (one range), of m_layerPhis (range k: layer
-  /// k) and of m_binPhis (range n: bin n of m_binRange).
+  /// k) and of m_binPhis (one range per bin: its hits' [begin, end)).
   detail::PhiCells m_phiCells;
   detail::PhiCells m_layerCells;
   detail::PhiCells m_binCells;
@@ -115,7 +115,7 @@ class HitPool {
     double zMin = 0.0, zMax = 0.0, rMin = 0.0, rMax = 0.0;
     double wMin = 0.0, binWidth = 0.0;
     std::uint32_t nBins = 1;
-    std::uint32_t firstBin = 0;  ///< into m_binRange
+    std::uint32_t firstBin = 0;  ///< range id of bin 0 in m_binCells
     std::uint32_t binOf(double w) const;
   };
   /// An RzCone with its trigonometry done once per search.
@@ -158,7 +158,6 @@ class HitPool {
   void collectLayer(std::size_t k, double wLo, double wHi, double phi,
                     double halfWidth, std::vector<ConfIndex>& out) const;
   std::vector<LayerBins> m_layerBins;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_binRange;
   std::vector<ConfIndex> m_binHits;
   std::vector<double> m_binPhis;
   /// Each layer member's long coordinate (z or R, as its LayerBins),

@@ -55,27 +55,11 @@ inline void forEachPhiInterval(double phi, double halfWidth, Scan&& scan) {
   }
 }
 
-/// Calls visit(i) for each index i of the phi-sorted range [begin, end) of
-/// `phis` within halfWidth of phi, wrapping at +-pi, in the order of the
-/// range (from -pi on each side of the wrap).
-template <typename Visit>
-inline void forEachInPhiWindow(const std::vector<double>& phis,
-                               std::size_t begin, std::size_t end, double phi,
-                               double halfWidth, Visit&& visit) {
-  forEachPhiInterval(phi, halfWidth, [&](double lo, double hi) {
-    auto first = std::lower_bound(phis.begin() + begin, phis.begin() + end, lo);
-    auto last = std::upper_bound(first, phis.begin() + end, hi);
-    const auto firstIndex = static_cast<std::size_t>(first - phis.begin());
-    const auto lastIndex = static_cast<std::size_t>(last - phis.begin());
-    for (std::size_t i = firstIndex; i != lastIndex; ++i) {
-      visit(i);
-    }
-  });
-}
-
-/// The same over range `range` of `cells` (indexing `phis`): the same
-/// indices in the same order, each interval started by a cell lookup and
-/// ended by the visiting loop instead of two binary searches.
+/// Calls visit(i) for each index i of range `range` of `cells` (indexing
+/// the phi-sorted `phis`) within halfWidth of phi, wrapping at +-pi, in the
+/// order of the range (from -pi on each side of the wrap): each interval
+/// starts at a cell lookup and ends in the visiting loop, where two binary
+/// searches would find the same indices.
 template <typename Visit>
 inline void forEachInPhiWindow(const std::vector<double>& phis,
                                const PhiCells& cells, std::uint32_t range,
@@ -90,17 +74,8 @@ inline void forEachInPhiWindow(const std::vector<double>& phis,
   });
 }
 
-/// Appends the entries of the phi-sorted range [begin, end) of `phis`
-/// (ids parallel) within halfWidth of phi, wrapping at +-pi.
-inline void collectPhiWindow(const std::vector<double>& phis,
-                             const std::vector<ConfIndex>& ids,
-                             std::size_t begin, std::size_t end, double phi,
-                             double halfWidth, std::vector<ConfIndex>& out) {
-  forEachInPhiWindow(phis, begin, end, phi, halfWidth,
-                     [&](std::size_t i) { out.push_back(ids[i]); });
-}
-
-/// The same over range `range` of `cells`.
+/// Appends the ids (parallel to `phis`) of range `range` of `cells` within
+/// halfWidth of phi, wrapping at +-pi.
 inline void collectPhiWindow(const std::vector<double>& phis,
                              const std::vector<ConfIndex>& ids,
                              const PhiCells& cells, std::uint32_t range,
