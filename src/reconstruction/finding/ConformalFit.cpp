@@ -134,16 +134,51 @@ ConformalFitResult fitConformal(const ConformalHits& hits,
   // Two passes: weights from the y' variance, then effective variances
   // with the fitted local slope.
   for (int pass = 0; pass < 2; ++pass) {
-    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    // The sums of w h h^T and w y h, h = (1, x~, x~^2), entry by entry:
+    // the finder fits every path of its cellular automaton, and Eigen's
+    // 3x3 outer product spent most of its time on the zeros of straight
+    // lines. Each entry is the product (w h_i) h_j that the outer product
+    // formed (the two off-diagonal entries of h_1 and h_2 separately, as
+    // it rounded them), so the fit is the same to the last bit.
+    double n00 = 0.0;
+    double n01 = 0.0;
+    double n10 = 0.0;
+    double n11 = 0.0;
+    double n02 = 0.0;
+    double n20 = 0.0;
+    double n12 = 0.0;
+    double n21 = 0.0;
+    double n22 = 0.0;
+    double r0 = 0.0;
+    double r1 = 0.0;
+    double r2 = 0.0;
     for (const FramePoint& p : pts) {
       double slope = pass == 0 ? 0.0 : params(1) + 2.0 * params(2) * p.x;
       double w = 1.0 / residualVariance(p, slope);
       double xs = p.x / scale;
-      Eigen::Vector3d h(1.0, xs, quadratic ? xs * xs : 0.0);
-      normal += w * h * h.transpose();
-      rhs += w * p.y * h;
+      const double wh0 = w * 1.0;
+      const double wh1 = w * xs;
+      n00 += 1.0 * wh0;
+      n01 += xs * wh0;
+      n10 += 1.0 * wh1;
+      n11 += xs * wh1;
+      const double wy = w * p.y;
+      r0 += wy * 1.0;
+      r1 += wy * xs;
+      if (quadratic) {
+        const double h2 = xs * xs;
+        const double wh2 = w * h2;
+        n02 += h2 * wh0;
+        n20 += 1.0 * wh2;
+        n12 += h2 * wh1;
+        n21 += xs * wh2;
+        n22 += h2 * wh2;
+        r2 += wy * h2;
+      }
     }
+    Eigen::Matrix3d normal;
+    normal << n00, n01, n02, n10, n11, n12, n20, n21, n22;
+    const Eigen::Vector3d rhs(r0, r1, r2);
     Eigen::Matrix3d scaledInv = Eigen::Matrix3d::Zero();
     Eigen::Vector3d scaled = Eigen::Vector3d::Zero();
     if (quadratic) {
@@ -299,17 +334,29 @@ SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
   Eigen::Vector2d params = Eigen::Vector2d::Zero();
   Eigen::Matrix2d inv = Eigen::Matrix2d::Zero();
   for (int pass = 0; pass < 2; ++pass) {
-    Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    // The sums of h h^T / var and z h / var, h = (1, s), entry by entry
+    // (as in fitConformal: the same products and quotients, fewer of them).
+    double n00 = 0.0;
+    double n01 = 0.0;
+    double n11 = 0.0;
+    double r0 = 0.0;
+    double r1 = 0.0;
     for (std::size_t k = 0; k < track.size(); ++k) {
       ConfIndex i = track[k];
       double t = pass == 0 ? 1.0 : params(1);
       double var =
           std::max(hits.varZ[i] + t * t * hits.varRxy[i], kMinZVariance);
-      Eigen::Vector2d h(1.0, s[k]);
-      normal += h * h.transpose() / var;
-      rhs += hits.z[i] * h / var;
+      const double sk = s[k];
+      n00 += (1.0 * 1.0) / var;
+      n01 += (sk * 1.0) / var;
+      n11 += (sk * sk) / var;
+      const double z = hits.z[i];
+      r0 += (z * 1.0) / var;
+      r1 += (z * sk) / var;
     }
+    Eigen::Matrix2d normal;
+    normal << n00, n01, n01, n11;
+    const Eigen::Vector2d rhs(r0, r1);
     double det = normal.determinant();
     if (!(std::abs(det) > 1e-12 * normal(0, 0) * normal(1, 1))) {
       return r;

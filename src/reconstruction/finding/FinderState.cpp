@@ -37,7 +37,8 @@ bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
   // a build step every candidate replaces the clones of its hits, and dead
   // entries would otherwise pile up on the hits of dense regions, making
   // each offer cost as much as all earlier ones together.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> shared;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& shared = m_shared;
+  shared.clear();
   for (ConfIndex h : candidate.hits) {
     std::erase_if(m_hitTracks[h],
                   [&](std::uint32_t t) { return !tracks[t].alive; });

@@ -148,12 +148,20 @@ void SeedAutomaton::expand(std::uint32_t c) {
   const HitPool::RzCone rzCone{
       m_hits.z[last], m_hits.radius[last], rz, rr,
       std::min(1.5, m_step.maxCellAngleRZ + 1.5 * bend)};
+  // The filter captures one pointer: a lambda holding the three it needs
+  // would not fit std::function's inline buffer (16 bytes in libstdc++),
+  // which then allocated once per expanded cell.
+  const struct {
+    const SeedAutomaton* self;
+    ConfIndex last;
+    Cell parent;
+  } filter{this, last, parent};
   m_pool.cone(
       m_hits.u[last], m_hits.v[last], parent.du, parent.dv, m_step.maxCellAngle,
       cu, cv, 0.625 * d, m_nb,
-      [&](ConfIndex n) {
-        return acceptNeighbour(last, n) &&
-               anglesPass(parent, makeCell(last, n));
+      [f = &filter](ConfIndex n) {
+        return f->self->acceptNeighbour(f->last, n) &&
+               f->self->anglesPass(f->parent, f->self->makeCell(f->last, n));
       },
       &rzCone);
   const std::uint32_t maxChildren = m_state.config.maxCellNeighbours;

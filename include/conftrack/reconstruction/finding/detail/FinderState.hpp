@@ -45,6 +45,8 @@ class CloneIndex {
  private:
   std::vector<std::vector<std::uint32_t>> m_hitTracks;
   std::vector<std::uint32_t> m_killed;
+  /// offer(): (track, hits shared with the candidate), reused.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_shared;
   std::size_t m_dead = 0;
 };
 

@@ -169,6 +169,9 @@ class SeedAutomaton {
   std::vector<std::uint32_t> m_local;  // global -> local index
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_edges;  // child,
                                                                  // parent
+  /// extractPaths(): scratch of the counting sort of m_edges by child.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_sortedEdges;
+  std::vector<std::uint32_t> m_edgeSlot;
   std::vector<std::uint32_t> m_weight;
   std::vector<ConfIndex> m_nb;
   std::vector<std::uint32_t> m_parentBegin;
