@@ -32,7 +32,7 @@ std::string with(const std::string& from, const std::string& to) {
 TEST(Chain, ShippedChainsMatchTheReference) {
   Detector clic = loadDetector("clicdet");
   FinderConfig c = readChain(resolveChainPath("clicdet"), clic);
-  ASSERT_EQ(c.steps.size(), 9u);
+  ASSERT_EQ(c.steps.size(), 10u);
   // algorithm.md 13.1 (CLICPerformance at HEAD).
   EXPECT_EQ(c.steps[0].name, "VXDBarrel");
   EXPECT_DOUBLE_EQ(c.steps[0].maxCellAngle, 0.005);
@@ -42,53 +42,67 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   EXPECT_TRUE(c.steps[3].collections.empty() && c.steps[3].sort);
   EXPECT_DOUBLE_EQ(c.steps[3].chi2Cut, 2000.0);
   EXPECT_EQ(c.steps[4].collections.size(), 4u);
-  EXPECT_EQ(c.steps[5].minHits, 5u);
-  EXPECT_DOUBLE_EQ(c.steps[5].maxDistance, 0.015);
-  EXPECT_EQ(c.steps[5].direction, SearchDirection::eOutsideIn);
+  // conftrack's sixth step: prompt tracks of the tracker disks, seeded
+  // about the event's vertices (chains/clicdet.toml gives the
+  // measurements).
+  EXPECT_EQ(c.steps[5].name, "ForwardPrompt");
+  EXPECT_TRUE(c.steps[5].build && c.steps[5].radialSearch);
+  EXPECT_EQ(c.steps[5].collections.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.steps[5].vertexWindow, 5.0);
+  EXPECT_EQ(c.steps[5].direction, SearchDirection::eInsideOut);
+  EXPECT_EQ(c.steps[6].name, "Displaced");
+  EXPECT_EQ(c.steps[6].minHits, 5u);
+  EXPECT_DOUBLE_EQ(c.steps[6].maxDistance, 0.015);
+  EXPECT_EQ(c.steps[6].direction, SearchDirection::eOutsideIn);
+  // Its seeds in the outer tracker only, since ForwardPrompt.
+  EXPECT_EQ(c.steps[6].seedCollections.size(), 2u);
   // conftrack applies the displaced step's chi2 cut to both fits
   // (docs/algorithm.md §3.6).
-  EXPECT_TRUE(!c.steps[5].onlySzChi2Cut && !c.steps[5].straightLineFit);
-  // conftrack's seventh step: four-hit displaced tracks (§3.7).
-  EXPECT_EQ(c.steps[6].name, "Displaced4");
-  EXPECT_EQ(c.steps[6].minHits, 4u);
-  EXPECT_EQ(c.steps[6].direction, SearchDirection::eOutsideIn);
-  // ... and its eighth: helix triplets for displaced tracks (§3.8).
-  EXPECT_EQ(c.steps[7].name, "DisplacedHelix");
-  EXPECT_TRUE(c.steps[7].helix && !c.steps[7].build && !c.steps[7].extend);
+  EXPECT_TRUE(!c.steps[6].onlySzChi2Cut && !c.steps[6].straightLineFit);
+  // conftrack's four-hit displaced tracks (§3.7).
+  EXPECT_EQ(c.steps[7].name, "Displaced4");
   EXPECT_EQ(c.steps[7].minHits, 4u);
-  EXPECT_DOUBLE_EQ(c.steps[7].minPt, 0.5);
-  EXPECT_DOUBLE_EQ(c.steps[7].maxSeedLength, 400.0);
-  EXPECT_EQ(c.steps[7].maxMissedLayers, 0u);
-  // ... and its ninth: low-momentum helix triplets from the vertex
-  // detector (chains/clicdet.toml gives the measurements).
-  EXPECT_EQ(c.steps[8].name, "LowPtHelix");
-  EXPECT_TRUE(c.steps[8].helix);
-  EXPECT_DOUBLE_EQ(c.steps[8].minPt, 0.1);
-  EXPECT_EQ(c.steps[8].seedCollections.size(), 2u);
+  EXPECT_EQ(c.steps[7].direction, SearchDirection::eOutsideIn);
+  // ... helix triplets for displaced tracks (§3.8).
+  EXPECT_EQ(c.steps[8].name, "DisplacedHelix");
+  EXPECT_TRUE(c.steps[8].helix && !c.steps[8].build && !c.steps[8].extend);
+  EXPECT_EQ(c.steps[8].minHits, 4u);
+  EXPECT_DOUBLE_EQ(c.steps[8].minPt, 0.5);
+  EXPECT_DOUBLE_EQ(c.steps[8].maxSeedLength, 400.0);
+  EXPECT_EQ(c.steps[8].maxMissedLayers, 0u);
+  // ... and low-momentum helix triplets from the vertex detector.
+  EXPECT_EQ(c.steps[9].name, "LowPtHelix");
+  EXPECT_TRUE(c.steps[9].helix);
+  EXPECT_DOUBLE_EQ(c.steps[9].minPt, 0.1);
+  EXPECT_DOUBLE_EQ(c.steps[9].maxSeedLength, 80.0);
+  EXPECT_EQ(c.steps[9].seedCollections.size(), 2u);
   EXPECT_DOUBLE_EQ(c.thetaRange, 0.05);
 
   Detector cld = loadDetector("cld");
   FinderConfig d = readChain(resolveChainPath("cld"), cld);
-  // Nine steps since issue 15 item 5: CLDConfig's six plus the CLICdet
-  // chain's Displaced4, DisplacedHelix and LowPtHelix (chains/cld.toml
-  // gives the measurements; CldChainTests checks their effect).
-  ASSERT_EQ(d.steps.size(), 9u);
+  // Ten steps: CLDConfig's six plus the CLICdet chain's ForwardPrompt,
+  // Displaced4, DisplacedHelix and LowPtHelix (chains/cld.toml gives the
+  // measurements; CldChainTests checks their effect).
+  ASSERT_EQ(d.steps.size(), 10u);
   // algorithm.md 13.2 (CLDConfig).
   EXPECT_DOUBLE_EQ(d.steps[0].maxDistance, 0.05);
   EXPECT_DOUBLE_EQ(d.steps[3].maxCellAngle, 0.1);
   EXPECT_DOUBLE_EQ(d.steps[4].highPtCut, 1.0);
-  EXPECT_DOUBLE_EQ(d.steps[5].maxDistance, 0.015);
-  EXPECT_EQ(d.steps[5].direction, SearchDirection::eOutsideIn);
+  EXPECT_EQ(d.steps[5].name, "ForwardPrompt");
+  EXPECT_DOUBLE_EQ(d.steps[5].vertexWindow, 5.0);
+  EXPECT_DOUBLE_EQ(d.steps[6].maxDistance, 0.015);
+  EXPECT_EQ(d.steps[6].direction, SearchDirection::eOutsideIn);
+  EXPECT_EQ(d.steps[6].seedCollections.size(), 2u);
   // The CLICdet treatment, with CLD's layer spacing (outer-tracker barrel
   // layers 570 mm apart against CLICdet's 330 mm).
-  EXPECT_DOUBLE_EQ(d.steps[5].maxSeedLength, 1000.0);
-  EXPECT_EQ(d.steps[6].name, "Displaced4");
-  EXPECT_EQ(d.steps[6].minHits, 4u);
-  EXPECT_EQ(d.steps[6].direction, SearchDirection::eOutsideIn);
-  EXPECT_EQ(d.steps[7].name, "DisplacedHelix");
-  EXPECT_TRUE(d.steps[7].helix && !d.steps[7].build && !d.steps[7].extend);
-  EXPECT_DOUBLE_EQ(d.steps[7].maxSeedLength, 700.0);
-  EXPECT_EQ(d.steps[7].maxMissedLayers, 0u);
+  EXPECT_DOUBLE_EQ(d.steps[6].maxSeedLength, 1000.0);
+  EXPECT_EQ(d.steps[7].name, "Displaced4");
+  EXPECT_EQ(d.steps[7].minHits, 4u);
+  EXPECT_EQ(d.steps[7].direction, SearchDirection::eOutsideIn);
+  EXPECT_EQ(d.steps[8].name, "DisplacedHelix");
+  EXPECT_TRUE(d.steps[8].helix && !d.steps[8].build && !d.steps[8].extend);
+  EXPECT_DOUBLE_EQ(d.steps[8].maxSeedLength, 700.0);
+  EXPECT_EQ(d.steps[8].maxMissedLayers, 0u);
 }
 
 TEST(Chain, MinimalStepParses) { EXPECT_EQ(errorOf(kStep), "(accepted)"); }

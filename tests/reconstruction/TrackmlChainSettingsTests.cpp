@@ -174,29 +174,31 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(clicChain.vertexPrepass->collections.size(), 1u);
   for (const FindingStep& s : clicChain.steps) {
     const bool displaced = s.name.starts_with("Displaced");
-    // LowPtHelix seeds in the vertex barrel and endcap, 100 mm long.
+    // LowPtHelix seeds in the vertex barrel and endcap, 80 mm long;
+    // ForwardPrompt builds prompt tracks in the tracker disks, its cells
+    // as long as the displaced steps'.
     const bool lowPtHelix = s.name == "LowPtHelix";
-    EXPECT_EQ(
-        s.seedCollections.size(),
-        lowPtHelix
-            ? 2u
-            : (s.name == "Displaced" || s.helix ? 4u : (displaced ? 2u : 0u)));
+    const bool forward = s.name == "ForwardPrompt";
+    EXPECT_EQ(s.seedCollections.size(),
+              lowPtHelix || (displaced && !s.helix) ? 2u : (s.helix ? 4u : 0u))
+        << s.name;
     EXPECT_EQ(s.chi2PtScale, 0.0);
     const bool vertexBuild = s.build && !displaced;
     EXPECT_EQ(s.maxSeedZ0,
               vertexBuild ? 200.0 : std::numeric_limits<double>::infinity())
         << s.name;
     EXPECT_EQ(s.maxSeedCells, s.build && s.radialSearch ? 30u : 0u) << s.name;
-    EXPECT_EQ(s.vertexWindow,
-              vertexBuild ? 1.0 : std::numeric_limits<double>::infinity())
+    EXPECT_EQ(s.vertexWindow, vertexBuild
+                                  ? (forward ? 5.0 : 1.0)
+                                  : std::numeric_limits<double>::infinity())
         << s.name;
     EXPECT_FALSE(s.vertexPrepassFreeHits) << s.name;
-    EXPECT_EQ(
-        s.maxSeedLength,
-        lowPtHelix
-            ? 100.0
-            : (s.helix ? 400.0
-                       : (displaced ? 800.0
+    EXPECT_EQ(s.maxSeedLength,
+              lowPtHelix
+                  ? 80.0
+                  : (s.helix ? 400.0
+                             : (displaced || forward
+                                    ? 800.0
                                     : std::numeric_limits<double>::infinity())))
         << s.name;
   }
