@@ -59,14 +59,24 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
     m_phis.push_back(hits.phi[i]);
   }
   m_phiCells.add(m_phis, 0, static_cast<std::uint32_t>(m_phis.size()));
-  m_layerHits = m_members;
-  std::sort(m_layerHits.begin(), m_layerHits.end(),
-            [&](ConfIndex a, ConfIndex b) {
-              if (hits.layer[a] != hits.layer[b]) {
-                return hits.layer[a] < hits.layer[b];
-              }
-              return byPhi(a, b);
-            });
+  // By layer, then as in m_byPhi: a counting sort of m_byPhi by layer,
+  // which keeps its order within each layer (the order that sorting by
+  // (layer, azimuth, index) gave, without a second sort per pool).
+  {
+    std::uint32_t nLayers = 0;
+    for (ConfIndex i : m_byPhi) {
+      nLayers = std::max<std::uint32_t>(nLayers, hits.layer[i] + 1U);
+    }
+    std::vector<std::uint32_t> slot(nLayers + 1, 0);
+    for (ConfIndex i : m_byPhi) {
+      ++slot[hits.layer[i] + 1U];
+    }
+    std::partial_sum(slot.begin(), slot.end(), slot.begin());
+    m_layerHits.resize(m_byPhi.size());
+    for (ConfIndex i : m_byPhi) {
+      m_layerHits[slot[hits.layer[i]]++] = i;
+    }
+  }
   for (std::uint32_t k = 0; k < m_layerHits.size(); ++k) {
     std::uint32_t l = hits.layer[m_layerHits[k]];
     m_layerPhis.push_back(hits.phi[m_layerHits[k]]);
@@ -261,9 +271,15 @@ void HitPool::discWindow(double u, double v, double radius, double phi,
 }
 
 void HitPool::azimuthWindow(double phi, double halfWidth,
-                            std::vector<ConfIndex>& out) const {
+                            std::vector<ConfIndex>& out,
+                            const std::function<bool(ConfIndex)>& keep) const {
   out.clear();
   detail::collectPhiWindow(m_phis, m_byPhi, m_phiCells, 0, phi, halfWidth, out);
+  if (keep) {
+    // The order below is total (ties by index): sorting the survivors
+    // gives the order that filtering the sorted window gave.
+    std::erase_if(out, [&](ConfIndex h) { return !keep(h); });
+  }
   auto dphi = [&](ConfIndex i) {
     double d = std::abs(m_hits->phi[i] - phi);
     return d > std::numbers::pi ? detail::kTwoPi - d : d;

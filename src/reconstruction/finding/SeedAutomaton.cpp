@@ -301,8 +301,8 @@ void SeedAutomaton::seedCells(ConfIndex seed) {
                       m_hits.phi[seed], m_step.maxSeedDeltaPhi, m_nb, passes,
                       useCone ? &cone : nullptr);
   } else {
-    m_pool.azimuthWindow(m_hits.phi[seed], m_state.config.thetaRange, m_nb);
-    std::erase_if(m_nb, [&](ConfIndex n) { return !passes(n); });
+    m_pool.azimuthWindow(m_hits.phi[seed], m_state.config.thetaRange, m_nb,
+                         passes);
   }
   // The nearest neighbours only (the searches return them nearest
   // first): the seed cells of a fixed window grow with the hit density,

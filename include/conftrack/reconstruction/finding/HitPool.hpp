@@ -68,9 +68,10 @@ class HitPool {
             const std::function<bool(ConfIndex)>& keep = {},
             const RzCone* rz = nullptr) const;
   /// Members with |phi - centre| <= halfWidth (wrapped), by |dphi| then
-  /// index.
-  void azimuthWindow(double phi, double halfWidth,
-                     std::vector<ConfIndex>& out) const;
+  /// index; with `keep`, only those it accepts (filtered before the sort,
+  /// as in cone()).
+  void azimuthWindow(double phi, double halfWidth, std::vector<ConfIndex>& out,
+                     const std::function<bool(ConfIndex)>& keep = {}) const;
   /// Appends the members on one detector layer with azimuth in the window
   /// (unordered: callers choose among them by a total order). With `rz`,
   /// only the layer bins that the (z, R) cone reaches are examined (a
