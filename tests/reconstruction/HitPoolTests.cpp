@@ -110,5 +110,43 @@ TEST(HitPool, AzimuthWindowFiltersBeforeItsOrder) {
   EXPECT_GT(kept, 1000U);  // the windows are not empty
 }
 
+TEST(HitPool, SparseLayersAreSearchedAlongTheirOwnCoordinate) {
+  // Few hits left on a layer: two on the disk (z = 600 mm) on sensors
+  // mounted 2.5 and 3 mm off it, at nearly one radius, and two on the
+  // barrel layer at R = 50 mm at one z on staves 1.5 and 2 mm out. A box
+  // about the disk's nominal z (its R bounds the hits) and one about the
+  // barrel's nominal R (its z bounds them) must hold them: the pool
+  // searches a disk along R and a barrel along z, whatever the spread of
+  // the hits it holds (by their spread both layers were searched along the
+  // other coordinate, and both boxes came back empty).
+  const Detector det = test::barrelDetector();
+  const std::uint16_t disk = 8;
+  const std::uint16_t barrel = 2;  // R = 50 mm
+  ASSERT_TRUE(det.layers()[disk].isDisk());
+  std::vector<Hit> hits;
+  hits.push_back(test::barrelHit(det, disk, 100.0, 0.0, 602.5, 1));
+  hits.push_back(test::barrelHit(det, disk, 100.2, 1.0, 603.0, 2));
+  hits.push_back(test::barrelHit(det, barrel, 0.0, 51.5, 120.0, 3));
+  hits.push_back(test::barrelHit(det, barrel, 0.0, 52.0, 120.0, 4));
+  const ConformalHits conf = makeConformalHits(hits, det);
+  const HitPool pool(conf, {0, 1, 2, 3});
+  // The hit ids found in a box.
+  auto ids = [&](std::uint32_t layer, double phi, double zLo, double zHi,
+                 double rLo, double rHi) {
+    std::vector<ConfIndex> found;
+    pool.layerBox(layer, phi, 0.1, zLo, zHi, rLo, rHi, found);
+    std::vector<std::uint64_t> out;
+    for (ConfIndex h : found) {
+      out.push_back(conf.id[h]);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_EQ(ids(disk, 0.0, 599.0, 601.0, 95.0, 105.0),
+            (std::vector<std::uint64_t>{1, 2}));
+  EXPECT_EQ(ids(barrel, 0.5 * std::numbers::pi, 110.0, 130.0, 49.0, 51.0),
+            (std::vector<std::uint64_t>{3, 4}));
+}
+
 }  // namespace
 }  // namespace conftrack

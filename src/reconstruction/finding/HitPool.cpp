@@ -111,7 +111,13 @@ HitPool::HitPool(const ConformalHits& hits, std::vector<ConfIndex> members)
       b.rMin = std::min(b.rMin, hits.radius[h]);
       b.rMax = std::max(b.rMax, hits.radius[h]);
     }
-    b.alongZ = b.zMax - b.zMin >= b.rMax - b.rMin;
+    // A barrel's hits along z, a disk's along R: the layer's own long
+    // coordinate, which callers' boxes bound (a disk's z window lies about
+    // its nominal z). Choosing by the hits' spread put the few hits left
+    // on a disk along z, and a box about the nominal z then missed those
+    // of sensors mounted a few millimetres off it (TrackML strip disks:
+    // -5.5 to +3.5 mm).
+    b.alongZ = !hits.isEndcap(m_layerHits[begin]);
     b.wMin = b.alongZ ? b.zMin : b.rMin;
     double wMax = b.alongZ ? b.zMax : b.rMax;
     b.nBins = static_cast<std::uint32_t>(
