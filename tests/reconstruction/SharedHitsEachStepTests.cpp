@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "ChainText.hpp"
+#include "InputErrorOf.hpp"
 #include "TrackmlSample.hpp"
 
 namespace conftrack {
@@ -33,18 +34,15 @@ TEST(SharedHitsEachStep, ChainKey) {
                          "c.toml", det)
                   .sharedHitsEachStep);
   // It runs the final resolution's rule, which must be on.
-  try {
+  const std::string what = test::inputErrorOf([&] {
     parseChain("[finder]\nshared_hits_each_step = true\n" + step, "c.toml",
                det);
-    ADD_FAILURE() << "accepted without final_min_unique_hits";
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("c.toml:2"), std::string::npos) << what;
-    EXPECT_NE(what.find("finder.shared_hits_each_step"), std::string::npos)
-        << what;
-    EXPECT_NE(what.find("needs final_min_unique_hits"), std::string::npos)
-        << what;
-  }
+  });
+  EXPECT_NE(what.find("c.toml:2"), std::string::npos) << what;
+  EXPECT_NE(what.find("finder.shared_hits_each_step"), std::string::npos)
+      << what;
+  EXPECT_NE(what.find("needs final_min_unique_hits"), std::string::npos)
+      << what;
 }
 
 struct Outcome {

@@ -137,15 +137,13 @@ ConformalFitResult fitConformal(const ConformalHits& hits,
     // The sums of w h h^T and w y h, h = (1, x~, x~^2), entry by entry:
     // the finder fits every path of its cellular automaton, and Eigen's
     // 3x3 outer product spent most of its time on the zeros of straight
-    // lines. Each entry is the product (w h_i) h_j that the outer product
-    // formed (the two off-diagonal entries of h_1 and h_2 separately, as
-    // it rounded them), so the fit is the same to the last bit.
+    // lines. Entry (i, j) is the product h_j (w h_i) that the outer product
+    // formed, so the fit is the same to the last bit; (0, j) and (j, 0)
+    // are both w h_j, while (1, 2) and (2, 1) round apart.
     double n00 = 0.0;
     double n01 = 0.0;
-    double n10 = 0.0;
-    double n11 = 0.0;
     double n02 = 0.0;
-    double n20 = 0.0;
+    double n11 = 0.0;
     double n12 = 0.0;
     double n21 = 0.0;
     double n22 = 0.0;
@@ -156,28 +154,25 @@ ConformalFitResult fitConformal(const ConformalHits& hits,
       double slope = pass == 0 ? 0.0 : params(1) + 2.0 * params(2) * p.x;
       double w = 1.0 / residualVariance(p, slope);
       double xs = p.x / scale;
-      const double wh0 = w * 1.0;
-      const double wh1 = w * xs;
-      n00 += 1.0 * wh0;
-      n01 += xs * wh0;
-      n10 += 1.0 * wh1;
-      n11 += xs * wh1;
+      const double wx = w * xs;
       const double wy = w * p.y;
-      r0 += wy * 1.0;
+      n00 += w;
+      n01 += wx;
+      n11 += xs * wx;
+      r0 += wy;
       r1 += wy * xs;
       if (quadratic) {
-        const double h2 = xs * xs;
-        const double wh2 = w * h2;
-        n02 += h2 * wh0;
-        n20 += 1.0 * wh2;
-        n12 += h2 * wh1;
-        n21 += xs * wh2;
-        n22 += h2 * wh2;
-        r2 += wy * h2;
+        const double x2 = xs * xs;
+        const double wx2 = w * x2;
+        n02 += wx2;
+        n12 += x2 * wx;
+        n21 += xs * wx2;
+        n22 += x2 * wx2;
+        r2 += wy * x2;
       }
     }
     Eigen::Matrix3d normal;
-    normal << n00, n01, n02, n10, n11, n12, n20, n21, n22;
+    normal << n00, n01, n02, n01, n11, n12, n02, n21, n22;
     const Eigen::Vector3d rhs(r0, r1, r2);
     Eigen::Matrix3d scaledInv = Eigen::Matrix3d::Zero();
     Eigen::Vector3d scaled = Eigen::Vector3d::Zero();
@@ -347,11 +342,11 @@ SzFitResult fitSz(const ConformalHits& hits, std::span<const ConfIndex> track,
       double var =
           std::max(hits.varZ[i] + t * t * hits.varRxy[i], kMinZVariance);
       const double sk = s[k];
-      n00 += (1.0 * 1.0) / var;
-      n01 += (sk * 1.0) / var;
-      n11 += (sk * sk) / var;
       const double z = hits.z[i];
-      r0 += (z * 1.0) / var;
+      n00 += 1.0 / var;
+      n01 += sk / var;
+      n11 += (sk * sk) / var;
+      r0 += z / var;
       r1 += (z * sk) / var;
     }
     Eigen::Matrix2d normal;

@@ -5,7 +5,7 @@
 /// on (u, v) for disc searches (nanoflann) and an azimuth-sorted array for
 /// window searches. Results come in a total order (distance, then index),
 /// so that the output never depends on the tree's internal order
-/// (algorithm.md 2.4 and 14.2).
+/// (docs/algorithm.md 3.2; the azimuth cells of the windows: section 6).
 
 #include "conftrack/reconstruction/finding/ConformalHits.hpp"
 #include "conftrack/reconstruction/finding/detail/PhiCells.hpp"
@@ -55,7 +55,7 @@ class HitPool {
   /// cone with apex (u, v), unit axis (du, dv) and half-angle `halfAngle`,
   /// by distance to the disc centre then index. The same hits as disc()
   /// followed by an angle cut, but each layer is searched only in the
-  /// azimuth window that the cone covers on it (algorithm.md 14.12).
+  /// azimuth window that the cone covers on it.
   /// If `keep` is given, only members for which it returns true are kept
   /// (applied before sorting: the same result as filtering afterwards, at
   /// the cost of sorting only the survivors). If `rz` is given, only
