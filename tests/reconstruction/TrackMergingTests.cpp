@@ -205,16 +205,24 @@ TEST(TrackMerging, ChainKeysAreRead) {
   const FinderConfig c = parseChain(
       "[finder]\ntrack_merging = false\nmerge_max_dphi = 0.2\n"
       "merge_max_distance_mm = 4.0\nmerge_max_dz_mm = 8.0\n"
-      "merge_max_chi2_ratio = 5.0\n" +
+      "merge_max_chi2_ratio = 5.0\nmerge_drop_turns = false\n" +
           minimalStep("Barrel"),
       "chain.toml", det);
   EXPECT_FALSE(c.trackMerging);
+  EXPECT_FALSE(c.mergeDropTurns);
+  EXPECT_TRUE(
+      parseChain("[finder]\n" + minimalStep("Barrel"), "chain.toml", det)
+          .mergeDropTurns);
   EXPECT_DOUBLE_EQ(c.mergeMaxDeltaPhi, 0.2);
   EXPECT_DOUBLE_EQ(c.mergeMaxDistance, 4.0 * units::mm);
   EXPECT_DOUBLE_EQ(c.mergeMaxDz, 8.0 * units::mm);
   EXPECT_DOUBLE_EQ(c.mergeMaxChi2Ratio, 5.0);
   EXPECT_THROW(
       parseChain("[finder]\nmerge_max_dz_mm = -1.0\n" + minimalStep("Barrel"),
+                 "chain.toml", det),
+      InputError);
+  EXPECT_THROW(
+      parseChain("[finder]\nmerge_drop_turns = 3\n" + minimalStep("Barrel"),
                  "chain.toml", det),
       InputError);
 }

@@ -77,6 +77,16 @@ TEST(TrackMerging, LooperFurtherHalfTurnIsLeftAlone) {
   detail::TrackMerger::Config cfg;
   cfg.dropTurns = false;
   EXPECT_EQ(detail::TrackMerger(*g.state, cfg).run(), 0u);
+
+  // The same through the chain (FinderConfig::mergeDropTurns, chain key
+  // merge_drop_turns, off in chains/trackml.toml): the finder's merging
+  // keeps both half-turns.
+  Fixture h;
+  h.hits = f.hits;
+  h.cfg.mergeDropTurns = false;
+  h.prepare({{1, 2, 3, 4, 5, 6, 7}, {52, 53, 54, 55, 56, 57}});
+  EXPECT_EQ(h.merge(), 0u);
+  EXPECT_EQ(h.state->tracks.size(), 2u);
 }
 
 TEST(TrackMerging, WellMatchedFurtherTurnJoinsTheFirstHalfTurnsTrack) {

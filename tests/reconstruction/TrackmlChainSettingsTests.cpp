@@ -69,8 +69,15 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(helix.continueMissedLayers, 1u);
   EXPECT_DOUBLE_EQ(helix.continueChi2Cut, 18.0);
   EXPECT_EQ(helix.firstPassMinHits, 8u);
+  // Seed triplets kinked in (s, z) by at most 1 mrad beyond 3 sigma of
+  // scattering and resolution: a quarter fewer triplets to follow than
+  // with 5 mrad, at the same score (stop 47).
+  EXPECT_DOUBLE_EQ(helix.maxCellAngleRZ, 0.001);
   // The files' particles end after half a turn.
   EXPECT_DOUBLE_EQ(c.maxTrackTurns, 0.5);
+  // ... so no track is a further half-turn of another.
+  EXPECT_TRUE(c.trackMerging);
+  EXPECT_FALSE(c.mergeDropTurns);
   EXPECT_EQ(c.finalMinUniqueHits, 6u);
   EXPECT_TRUE(c.finalTrimSharedHits);
   EXPECT_EQ(helix.minHits, 6u);
@@ -88,6 +95,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(strips.minPt, 0.15);
   EXPECT_EQ(strips.continueMissedLayers, 1u);
   EXPECT_DOUBLE_EQ(strips.continueChi2Cut, 18.0);
+  EXPECT_DOUBLE_EQ(strips.maxCellAngleRZ, helix.maxCellAngleRZ);
   // The selection judges the strip helix step's 5-hit tracks.
   const TrackSelector::Config selection =
       readReconstructionConfig(resolveChainPath("trackml"), detector).selector;
@@ -99,6 +107,14 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_TRUE(step("LowPt").build && step("LowPt").minHits == 6 &&
               step("LowPt").chi2Cut == 3000.0);
   EXPECT_TRUE(step("Strips3").extend && !step("Strips3").build);
+  // The prompt builds seed cells bending by at most 0.04 rad (about 0.3
+  // GeV from L0 to L1) and leave the slower tracks to LowPt, whose cells
+  // may bend by 0.1 rad (0.13 GeV): cheaper and fewer fakes than 0.1 and
+  // 0.15 (stop 47).
+  EXPECT_DOUBLE_EQ(step("PixelPrompt").maxSeedDeltaPhi, 0.04);
+  EXPECT_DOUBLE_EQ(step("PixelPrompt2").maxSeedDeltaPhi, 0.04);
+  EXPECT_DOUBLE_EQ(step("LowPt").maxSeedDeltaPhi, 0.10);
+  EXPECT_GT(step("LowPt").maxSeedDeltaPhi, step("PixelPrompt").maxSeedDeltaPhi);
   EXPECT_TRUE(step("PixelPrompt").build &&
               step("PixelPrompt").straightLineFit &&
               step("PixelPrompt").radialSearch);

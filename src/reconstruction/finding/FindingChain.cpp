@@ -224,6 +224,7 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         quantity(f, "overlap_max_gap_mm", units::mm, cfg.overlapMaxGap);
     cfg.maxTrackTurns = quantity(f, "max_track_turns", 1.0, cfg.maxTrackTurns);
     cfg.trackMerging = f.getBool("track_merging", cfg.trackMerging);
+    cfg.mergeDropTurns = f.getBool("merge_drop_turns", cfg.mergeDropTurns);
     cfg.mergeMaxDeltaPhi =
         quantity(f, "merge_max_dphi", units::rad, cfg.mergeMaxDeltaPhi);
     cfg.mergeMaxDistance =

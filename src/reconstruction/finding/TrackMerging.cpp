@@ -477,6 +477,7 @@ void mergeTracks(FinderState& state, StepStats& stats) {
     outer = std::max(outer, layer.rMax);
   }
   config.maxLoopDiameter = outer;
+  config.dropTurns = state.config.mergeDropTurns;
   TrackMerger merger(state, config);
   stats.mergedTracks += merger.run();
   state.compact();

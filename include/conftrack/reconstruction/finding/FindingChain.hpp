@@ -383,6 +383,12 @@ struct FinderConfig {
   /// Largest ratio of the merged fit's chi2/ndf to the pieces' own (each
   /// at least 1), in uv and in s-z (chain key merge_max_chi2_ratio).
   double mergeMaxChi2Ratio = 10.0;
+  /// With trackMerging, also drop the tracks that are further half-turns
+  /// of a better track's looper (TrackMerger::Config::dropTurns; chain key
+  /// merge_drop_turns). Off where the data's particles end within half a
+  /// turn (TrackML): no track can be a further turn there, and the search
+  /// for them cost half of the merging (algorithm.md 3.17).
+  bool mergeDropTurns = true;
 };
 
 /// A problem of a chain, named by the chain-file key it comes from, so that
