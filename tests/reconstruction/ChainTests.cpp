@@ -33,7 +33,7 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   Detector clic = loadDetector("clicdet");
   FinderConfig c = readChain(resolveChainPath("clicdet"), clic);
   ASSERT_EQ(c.steps.size(), 10u);
-  // algorithm.md 13.1 (CLICPerformance at HEAD).
+  // upstream.md 13.1 (CLICPerformance at HEAD).
   EXPECT_EQ(c.steps[0].name, "VXDBarrel");
   EXPECT_DOUBLE_EQ(c.steps[0].maxCellAngle, 0.005);
   EXPECT_TRUE(c.steps[0].build && !c.steps[0].radialSearch);
@@ -84,7 +84,7 @@ TEST(Chain, ShippedChainsMatchTheReference) {
   // Displaced4, DisplacedHelix and LowPtHelix (chains/cld.toml gives the
   // measurements; CldChainTests checks their effect).
   ASSERT_EQ(d.steps.size(), 10u);
-  // algorithm.md 13.2 (CLDConfig).
+  // upstream.md 13.2 (CLDConfig).
   EXPECT_DOUBLE_EQ(d.steps[0].maxDistance, 0.05);
   EXPECT_DOUBLE_EQ(d.steps[3].maxCellAngle, 0.1);
   EXPECT_DOUBLE_EQ(d.steps[4].highPtCut, 1.0);

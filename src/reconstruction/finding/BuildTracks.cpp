@@ -1,9 +1,9 @@
-// BuildNewTracks of conformal tracking (algorithm.md 5, 6, 8; paper 4.1.1):
+// BuildNewTracks of conformal tracking (upstream.md 5, 6, 8; paper 4.1.1):
 // per seed hit, a forward cellular automaton of cells (segments between
 // hits) in the conformal plane, then paths from the leaf cells back to the
 // seed, fits, chi2 cuts and the clone treatment.
 //
-// Differences from upstream, each for a reason given in algorithm.md 14:
+// Differences from upstream, each for a reason given in upstream.md 14:
 // - angles between cells from direction vectors (no NaN for vertical
 //   cells; kinks that reverse direction are rejected);
 // - the longitudinal angle between cells is taken in (s, z), s the

@@ -99,7 +99,7 @@ ConformalFitResult fitConformal(const ConformalHits& hits,
   } else {
     // x' along the track's extent in the conformal plane: the fitted
     // curve is then nearly horizontal and its slope is small (no
-    // near-vertical lines, algorithm.md 7.1 "rotation").
+    // near-vertical lines, upstream.md 7.1 "rotation").
     double du = hits.u[track.back()] - hits.u[track.front()];
     double dv = hits.v[track.back()] - hits.v[track.front()];
     double norm = std::hypot(du, dv);

@@ -1,4 +1,4 @@
-// The extension actions of a step (algorithm.md 10): ExtendTracks, and the
+// The extension actions of a step (upstream.md 10): ExtendTracks, and the
 // completion of newly built tracks. The units that they run are
 // TrackExtension, CatchAllExtension, InwardExtension and HoleFilling
 // (detail/), which share TrackFollower and LayerCrossingSearch.
@@ -25,7 +25,7 @@ void completeTrack(FinderState& state, const FindingStep& step,
 
 void extendTracks(FinderState& state, const FindingStep& step,
                   const HitPool& pool, StepStats& stats) {
-  // Hits of all tracks are claimed before extending (algorithm.md 10.2).
+  // Hits of all tracks are claimed before extending (upstream.md 10.2).
   for (const TrackCandidate& t : state.tracks) {
     for (ConfIndex h : t.hits) {
       state.used[h] = 1;

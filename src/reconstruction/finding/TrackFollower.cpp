@@ -1,12 +1,12 @@
 // Following a track hit by hit (detail/TrackFollower.hpp): the engine of
-// ExtendTracks (algorithm.md 10; paper 4.1.2) and of the inward completion.
+// ExtendTracks (upstream.md 10; paper 4.1.2) and of the inward completion.
 //
 // Upstream scans, for the low-pT pass, every hit of the step for every
-// track (O(N_tracks x N_hits), algorithm.md 14.11). Here every pass uses the
-// track's current circle and s-z line to predict where it crosses each layer
-// of the step (both crossings of a barrel layer, for loopers, in the
-// catch-all pass) and examines only the hits in an azimuth window around
-// each prediction. The acceptance criteria are upstream's: angle between the
+// track (O(N_tracks x N_hits), upstream.md 14, item 11). Here every pass
+// uses the track's current circle and s-z line to predict where it crosses
+// each layer of the step (both crossings of a barrel layer, for loopers, in
+// the catch-all pass) and examines only the hits in an azimuth window
+// around each prediction. The acceptance criteria are upstream's: angle between the
 // track direction and the new cell (FollowRules::angleFactor times the
 // step's cuts), increases of chi2_uv/ndf and chi2_sz/ndf below the step's
 // chi2 cut, no two hits on one sensor, and in the catch-all pass no hit on

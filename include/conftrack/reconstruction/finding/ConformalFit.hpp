@@ -1,11 +1,11 @@
 #pragma once
 
 /// @file ConformalFit.hpp
-/// The two regressions of conformal tracking (algorithm.md 7): a weighted
+/// The two regressions of conformal tracking (upstream.md 7): a weighted
 /// fit of y' = c + m x' (+ q x'^2) in a rotated conformal frame, and a
 /// weighted straight-line fit of z versus the arc length s.
 ///
-/// Improvements over upstream (algorithm.md 14.1): ndf = n - (number of
+/// Improvements over upstream (upstream.md 14.1): ndf = n - (number of
 /// parameters); the covariance is the inverse normal matrix; residual
 /// variances use the full 2-D conformal hit covariance projected on the
 /// fitted curve (effective variance); degenerate systems are reported as

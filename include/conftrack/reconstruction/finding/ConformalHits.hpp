@@ -26,7 +26,7 @@ using ConfIndex = std::uint32_t;
 /// the input order. `original[i]` maps back to the event's HitIndex.
 ///
 /// Conformal errors are propagated with the Jacobian of the mapping
-/// u = x/R^2, v = y/R^2 (algorithm.md 2.1, suggested improvement): a
+/// u = x/R^2, v = y/R^2 (upstream.md 2.1, suggested improvement): a
 /// tangential displacement d maps to d/R^2 along the tangential direction,
 /// a radial one to d/R^2 along the radial direction (with opposite sign,
 /// irrelevant for variances).

@@ -1,8 +1,9 @@
 #pragma once
 
 /// @file FindingChain.hpp
-/// The configurable chain of conformal-tracking steps (algorithm.md 3, 12,
-/// 13) and its TOML reader (format: README "Chain files").
+/// The configurable chain of conformal-tracking steps (upstream.md 3, 12,
+/// 13; conftrack's keys in docs/algorithm.md 2) and its TOML reader
+/// (format: README "Chain files").
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
@@ -39,7 +40,7 @@ inline double scaledChi2Cut(double cut, double ptScale, double pt) {
 }
 
 /// One step of the chain. Defaults are those of the CLICdet chain's first
-/// step (algorithm.md 13.1).
+/// step (upstream.md 13.1).
 struct FindingStep {
   std::string name;
   /// Subdetector indices whose hits form the step's pool; empty: reuse the

@@ -32,7 +32,7 @@ struct TrackCandidate {
   /// of its fits.
   std::vector<ConfIndex> turnHits;
 
-  /// chi2_uv/ndf + chi2_sz/ndf (algorithm.md 7.4, linear sum).
+  /// chi2_uv/ndf + chi2_sz/ndf (upstream.md 7.4, linear sum).
   double quality() const { return uv.chi2PerNdf() + sz.chi2PerNdf(); }
 };
 

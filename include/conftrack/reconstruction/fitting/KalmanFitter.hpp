@@ -1,7 +1,7 @@
 #pragma once
 
 /// @file KalmanFitter.hpp
-/// The final track fit (paper 4.2, algorithm.md 11): a Kalman filter with
+/// The final track fit (paper 4.2, upstream.md 11): a Kalman filter with
 /// Rauch-Tung-Striebel smoother on the helix parameters in global
 /// coordinates, with the same helix, navigation and material model as the
 /// fast simulation, and the extrapolation to the point of closest
@@ -171,7 +171,7 @@ const char* knownMassHypotheses();
 
 class KalmanFitter {
  public:
-  /// Settings. Defaults follow upstream (algorithm.md 11.1) where it has
+  /// Settings. Defaults follow upstream (upstream.md 11.1) where it has
   /// an equivalent.
   struct Config {
     /// PDG code of the mass hypothesis: 211 (pion, default), 13, 11

@@ -1,7 +1,7 @@
 #pragma once
 
 /// @file CatchAllExtension.hpp
-/// The catch-all extension of ExtendTracks (algorithm.md 10, its second,
+/// The catch-all extension of ExtendTracks (upstream.md 10, its second,
 /// "low-pT" pass): every live track is followed again with loose cuts, so
 /// that it picks up the compatible hits the per-layer pass (TrackExtension,
 /// only above FindingStep::highPtCut) did not look for, including those of

@@ -21,7 +21,7 @@ namespace conftrack::detail {
 /// chi2_uv/ndf + chi2_sz/ndf, then the hit lists (deterministic ties).
 bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b);
 
-/// Clone treatment (algorithm.md 8.5, made order-independent): a new
+/// Clone treatment (upstream.md 8, step 5, made order-independent): a new
 /// candidate sharing at least `minShared` hits with accepted tracks replaces
 /// them if it is better than each of them, and is dropped otherwise.
 class CloneIndex {
@@ -113,7 +113,7 @@ bool fitCandidate(const FinderState& state, const FindingStep& step,
                   std::vector<ConfIndex> hits, TrackCandidate& out);
 
 /// BuildNewTracks: cellular automaton per seed, path extraction, fits,
-/// clone treatment (algorithm.md 5, 6, 8).
+/// clone treatment (upstream.md 5, 6, 8).
 void buildTracks(FinderState& state, const FindingStep& step,
                  std::uint16_t stepIndex, const HitPool& pool,
                  StepStats& stats);
@@ -152,7 +152,7 @@ std::vector<std::pair<double, double>> findFreeHitVertexRegions(
     const FinderState& state);
 
 /// ExtendTracks: per-layer extension of tracks above the step's pT cut,
-/// then the catch-all extension of all tracks (algorithm.md 10).
+/// then the catch-all extension of all tracks (upstream.md 10).
 void extendTracks(FinderState& state, const FindingStep& step,
                   const HitPool& pool, StepStats& stats);
 

@@ -80,7 +80,7 @@ class SeedAutomaton {
   void flushCache();
 
   /// Children of cell c: cells (end -> n) with n in the search window
-  /// around the "virtual hit" on the cell's prolongation (algorithm.md 4)
+  /// around the "virtual hit" on the cell's prolongation (upstream.md 4)
   /// that pass the angle cuts. Computed once per step.
   void expand(std::uint32_t c);
 

@@ -1,7 +1,7 @@
 #pragma once
 
 /// @file TrackExtension.hpp
-/// The per-layer extension of ExtendTracks (algorithm.md 10, its first
+/// The per-layer extension of ExtendTracks (upstream.md 10, its first
 /// pass): a track is followed outwards from its last hit along its
 /// predicted helix, one layer crossing at a time, with the step's cuts and
 /// a look-ahead among compatible hits (TrackFollower.cpp). The step runs it
