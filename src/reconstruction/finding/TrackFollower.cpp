@@ -6,8 +6,8 @@
 // uses the track's current circle and s-z line to predict where it crosses
 // each layer of the step (both crossings of a barrel layer, for loopers, in
 // the catch-all pass) and examines only the hits in an azimuth window
-// around each prediction. The acceptance criteria are upstream's: angle between the
-// track direction and the new cell (FollowRules::angleFactor times the
+// around each prediction. The acceptance criteria are upstream's: angle between
+// the track direction and the new cell (FollowRules::angleFactor times the
 // step's cuts), increases of chi2_uv/ndf and chi2_sz/ndf below the step's
 // chi2 cut, no two hits on one sensor, and in the catch-all pass no hit on
 // the other side in z; but the longitudinal angle is measured in the (s, z)
