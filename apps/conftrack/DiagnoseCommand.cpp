@@ -111,6 +111,13 @@ void printDiagnostics(const std::vector<std::uint64_t>& numbers,
       "(fakes: fraction of tracks with no particle > 50 %%; hitfrac: mean "
       "fraction of a found particle's hits on its track; foreign: hits of "
       "others on found particles' tracks per event)\n\n");
+  const LostHitPlaces& p = mean.places;
+  std::printf(
+      "Where found particles lose hits (mean): left off before their "
+      "track's first hit %.4f, between its hits %.4f, after its last %.4f; on "
+      "another track as its first or last hit %.4f, inside it %.4f\n\n",
+      p.leftOffBefore, p.leftOffBetween, p.leftOffAfter, p.otherAtHolderEnd,
+      p.otherInsideHolder);
   std::printf("In bins (mean over events):\n");
   printHistogram(mean.pt, "pT [GeV]");
   printHistogram(mean.absEta, "|eta|");
@@ -155,6 +162,13 @@ Json diagnosticsJson(const TrackmlDiagnostics& d) {
   j["total_weight"] = d.totalWeight;
   j["weights_computed"] = d.weightsComputed;
   j["breakdown"] = breakdownJson(d.weight);
+  Json places;
+  places["left_off_before"] = d.places.leftOffBefore;
+  places["left_off_between"] = d.places.leftOffBetween;
+  places["left_off_after"] = d.places.leftOffAfter;
+  places["other_at_holder_end"] = d.places.otherAtHolderEnd;
+  places["other_inside_holder"] = d.places.otherInsideHolder;
+  j["lost_hit_places"] = places;
   j["tracks"] = d.tracks;
   j["fake_tracks"] = d.fakeTracks;
   j["fake_fraction"] = d.fakeFraction;

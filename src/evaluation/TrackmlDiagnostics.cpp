@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -30,6 +31,14 @@ void WeightBreakdown::add(const WeightBreakdown& other, double scale) {
   partial += scale * other.partial;
   impure += scale * other.impure;
   noise += scale * other.noise;
+}
+
+void LostHitPlaces::add(const LostHitPlaces& other, double scale) {
+  leftOffBefore += scale * other.leftOffBefore;
+  leftOffBetween += scale * other.leftOffBetween;
+  leftOffAfter += scale * other.leftOffAfter;
+  otherAtHolderEnd += scale * other.otherAtHolderEnd;
+  otherInsideHolder += scale * other.otherInsideHolder;
 }
 
 namespace {
@@ -102,10 +111,19 @@ TrackmlDiagnostics diagnoseTrackml(const Event& event,
   std::unordered_map<std::uint64_t, std::size_t> trackHits;
   std::unordered_map<std::uint64_t, double> trackWeight;
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> particleHits;
+  // Per track, the nearest and furthest of its hits from the origin: its
+  // ends (LostHitPlaces).
+  std::unordered_map<std::uint64_t, std::pair<double, double>> trackEnds;
   for (std::size_t i = 0; i < labels.size(); ++i) {
     ++trackHits[labels[i]];
     trackWeight[labels[i]] += weights[i];
     particleHits[event.truth[i].particleId].push_back(i);
+    const double r = event.hits[i].position.norm();
+    auto [it, inserted] = trackEnds.try_emplace(labels[i], r, r);
+    if (!inserted) {
+      it->second.first = std::min(it->second.first, r);
+      it->second.second = std::max(it->second.second, r);
+    }
   }
   // Particles in id order: sums in a fixed order, the same on every run.
   std::vector<std::uint64_t> particles;
@@ -158,6 +176,12 @@ TrackmlDiagnostics diagnoseTrackml(const Event& event,
       }
     }
 
+    // Binned by the particle's production kinematics (below); its vertex
+    // also orders its hits.
+    const ParticleIndex p =
+        particle == 0 ? kInvalidIndex : event.findParticle(particle);
+    const bool known = p != kInvalidIndex;
+
     WeightBreakdown w;
     double particleWeight = 0.0;
     if (matched) {
@@ -167,20 +191,55 @@ TrackmlDiagnostics diagnoseTrackml(const Event& event,
           trackLayers.insert(layerKey(event.hits[i].detId));
         }
       }
+      // Each hit's place along the particle (LostHitPlaces), and the span
+      // of those on its matched track.
+      bool timed = false;
+      for (std::size_t i : hits) {
+        timed = timed || event.truth[i].time != event.truth[hits[0]].time;
+      }
+      const Vector3 origin =
+          known ? event.particles[p].vertex : Vector3::Zero();
+      auto place = [&](std::size_t i) {
+        return timed ? event.truth[i].time
+                     : (event.truth[i].position - origin).norm();
+      };
+      double first = std::numeric_limits<double>::infinity();
+      double last = -std::numeric_limits<double>::infinity();
+      for (std::size_t i : hits) {
+        if (labels[i] == track) {
+          first = std::min(first, place(i));
+          last = std::max(last, place(i));
+        }
+      }
       for (std::size_t i : hits) {
         const double wi = weights[i] * norm;
         particleWeight += weights[i];
         if (labels[i] == track) {
           w.found += wi;
-        } else if (particle == 0) {
+          continue;
+        }
+        if (particle == 0) {
           w.noise += wi;
-        } else if (labels[i] != 0) {
+          continue;
+        }
+        if (labels[i] != 0) {
           w.otherTracks += wi;
-        } else if (trackLayers.contains(layerKey(event.hits[i].detId))) {
+          const auto& [nearest, furthest] = trackEnds[labels[i]];
+          const double r = event.hits[i].position.norm();
+          (r == nearest || r == furthest ? result.places.otherAtHolderEnd
+                                         : result.places.otherInsideHolder) +=
+              wi;
+          continue;
+        }
+        if (trackLayers.contains(layerKey(event.hits[i].detId))) {
           w.leftOffSameLayer += wi;
         } else {
           w.leftOffNewLayer += wi;
         }
+        const double at = place(i);
+        (at < first  ? result.places.leftOffBefore
+         : at > last ? result.places.leftOffAfter
+                     : result.places.leftOffBetween) += wi;
       }
     } else {
       for (std::size_t i : hits) {
@@ -210,10 +269,6 @@ TrackmlDiagnostics diagnoseTrackml(const Event& event,
           std::max(0.0, trackWeight[track] * norm - w.found);
     }
 
-    // Binned by the particle's production kinematics.
-    const ParticleIndex p =
-        particle == 0 ? kInvalidIndex : event.findParticle(particle);
-    const bool known = p != kInvalidIndex;
     double pt = 0.0;
     double absEta = 0.0;
     double radius = 0.0;
@@ -295,6 +350,7 @@ TrackmlDiagnostics averageDiagnostics(
     mean.totalWeight += scale * e.totalWeight;
     mean.weightsComputed = mean.weightsComputed || e.weightsComputed;
     mean.weight.add(e.weight, scale);
+    mean.places.add(e.places, scale);
     addHistogram(mean.pt, e.pt, scale);
     addHistogram(mean.absEta, e.absEta, scale);
     addHistogram(mean.radius, e.radius, scale);

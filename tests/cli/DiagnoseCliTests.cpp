@@ -85,12 +85,25 @@ TEST(DiagnoseCli, AgreesWithScoreAndAddsUpToOne) {
     EXPECT_TRUE(h.at("bins").back().at("max").is_null()) << quantity;
   }
   EXPECT_EQ(j.at("mean").at("score").get<double>(), score);
+  // The places of the lost hits add up to their categories.
+  const Json& places = event.at("lost_hit_places");
+  const Json& causes = event.at("breakdown");
+  EXPECT_NEAR(places.at("left_off_before").get<double>() +
+                  places.at("left_off_between").get<double>() +
+                  places.at("left_off_after").get<double>(),
+              causes.at("left_off_same_layer").get<double>() +
+                  causes.at("left_off_new_layer").get<double>(),
+              1e-9);
+  EXPECT_NEAR(places.at("other_at_holder_end").get<double>() +
+                  places.at("other_inside_holder").get<double>(),
+              causes.at("other_tracks").get<double>(), 1e-9);
 
   // The printed table: a header, the event and the mean.
   const std::string text = slurp(dir / "diagnose.txt");
   EXPECT_NE(text.find("TrackML weight by cause"), std::string::npos);
   EXPECT_NE(text.find("pT [GeV]"), std::string::npos);
   EXPECT_NE(text.find("r_prod [mm]"), std::string::npos);
+  EXPECT_NE(text.find("Where found particles lose hits"), std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -278,7 +278,65 @@ TEST(TrackmlDiagnostics, CategoriesAddUpToOneMinusTheScore) {
     EXPECT_GE(d.meanFoundHitFraction, 0.0);
     EXPECT_LE(d.meanFoundHitFraction, 1.0);
     EXPECT_LE(d.fakeTracks, d.tracks);
+    // Every left-off and other-track hit has exactly one place.
+    const LostHitPlaces& p = d.places;
+    EXPECT_NEAR(p.leftOffBefore + p.leftOffBetween + p.leftOffAfter,
+                d.weight.leftOffSameLayer + d.weight.leftOffNewLayer, 1e-9)
+        << trial;
+    EXPECT_NEAR(p.otherAtHolderEnd + p.otherInsideHolder, d.weight.otherTracks,
+                1e-9)
+        << trial;
   }
+}
+
+TEST(TrackmlDiagnostics, PlacesOfLostHitsAlongTheParticle) {
+  // Particle 1 moves out along x with a hit every 10 mm from 10 to 110 mm
+  // (0.1 each): track 1 holds those at 30, 40, 60, 70, 80 and 90 mm (6 of
+  // 11: matched); 10 and 20 mm are left off before the track's first hit,
+  // 50 mm between, 110 mm after its last; 100 mm is on track 2, between
+  // that track's hits at 95 and 105 mm (particle 2's, 0.05 each: matched
+  // to track 2), whose third hit, at 130 mm, is track 3's only hit.
+  Event event;
+  event.number = 1;
+  auto add = [&](std::uint64_t particle, double x, double weight) {
+    Hit hit;
+    hit.id = event.hits.size() + 1;
+    hit.position = Vector3(x, 0.0, 0.0);
+    hit.detId.layer = static_cast<std::uint16_t>(x);
+    event.hits.push_back(hit);
+    HitTruth t;
+    t.particleId = particle;
+    t.position = hit.position;
+    t.weight = weight;
+    event.truth.push_back(t);
+  };
+  for (int k = 1; k <= 11; ++k) {
+    add(1, 10.0 * k, 0.1);
+  }
+  add(2, 95.0, 0.05);
+  add(2, 105.0, 0.05);
+  add(2, 130.0, 0.05);
+  event.particles = {makeParticle(1, 1.0, 0.0, 0.0),
+                     makeParticle(2, 1.0, 0.0, 0.0)};
+  const Labels labels = {0, 0, 1, 1, 0, 1, 1, 1, 1, 2, 0, 2, 2, 3};
+  TrackmlDiagnostics d = diagnose(event, labels);
+  const double total = 1.25;
+  EXPECT_NEAR(d.weight.found, 0.7 / total, 1e-12);
+  EXPECT_NEAR(d.places.leftOffBefore, 0.2 / total, 1e-12);
+  EXPECT_NEAR(d.places.leftOffBetween, 0.1 / total, 1e-12);
+  EXPECT_NEAR(d.places.leftOffAfter, 0.1 / total, 1e-12);
+  EXPECT_NEAR(d.places.otherInsideHolder, 0.1 / total, 1e-12);
+  EXPECT_NEAR(d.places.otherAtHolderEnd, 0.05 / total, 1e-12);
+
+  // With truth times the order is theirs, not the distance from the
+  // vertex: particle 1 crossed its hits from 110 mm back to 10 mm.
+  for (std::size_t i = 0; i < 11; ++i) {
+    event.truth[i].time = 11.0 - static_cast<double>(i);
+  }
+  d = diagnose(event, labels);
+  EXPECT_NEAR(d.places.leftOffBefore, 0.1 / total, 1e-12);  // 110 mm
+  EXPECT_NEAR(d.places.leftOffBetween, 0.1 / total, 1e-12);
+  EXPECT_NEAR(d.places.leftOffAfter, 0.2 / total, 1e-12);  // 20, 10 mm
 }
 
 TEST(TrackmlDiagnostics, AverageOfEvents) {
@@ -297,6 +355,11 @@ TEST(TrackmlDiagnostics, AverageOfEvents) {
   EXPECT_NEAR(mean.weight.total(), 1.0, 1e-12);
   EXPECT_NEAR(mean.tracks, 7.0, 1e-12);
   EXPECT_NEAR(mean.pt.bins[1].weight.found, (0.20 + 0.32) / 2.0, 1e-12);
+  // Particle 1's left-off hits (0.05 + 0.03, all hits at the origin: none
+  // before or after its track's) and its hit on track 2, halved.
+  EXPECT_NEAR(mean.places.leftOffBetween, 0.04, 1e-12);
+  EXPECT_NEAR(mean.places.otherAtHolderEnd + mean.places.otherInsideHolder,
+              0.02, 1e-12);
   EXPECT_EQ(averageDiagnostics({}).tracks, 0.0);
 
   TrackmlDiagnosticsConfig other;

@@ -63,6 +63,29 @@ struct WeightBreakdown {
   void add(const WeightBreakdown& other, double scale = 1.0);
 };
 
+/// Where the lost hits of matched particles lie (fractions of the event's
+/// total weight). A particle's hits are taken in the order of its
+/// trajectory: their truth times, or, where the truth gives all of them
+/// one time (the Kaggle files have none), their true positions' distance
+/// from the production vertex (monotonic over the half turn that TrackML
+/// particles make). A track's hits are taken by the distance of their
+/// measured positions from the origin.
+struct LostHitPlaces {
+  /// Left off (leftOffSameLayer + leftOffNewLayer): before the particle's
+  /// first hit on its matched track, between its first and last, after its
+  /// last.
+  double leftOffBefore = 0.0;
+  double leftOffBetween = 0.0;
+  double leftOffAfter = 0.0;
+  /// On another track (otherTracks): that track's first or last hit, or
+  /// one inside it.
+  double otherAtHolderEnd = 0.0;
+  double otherInsideHolder = 0.0;
+
+  /// Adds `scale` times every field of `other`.
+  void add(const LostHitPlaces& other, double scale = 1.0);
+};
+
 /// One bin [min, max) of a particle quantity.
 struct DiagnosticsBin {
   double min = 0.0;
@@ -108,6 +131,8 @@ struct TrackmlDiagnostics {
   bool weightsComputed = false;
   /// The whole event; weight.found is the TrackML score.
   WeightBreakdown weight;
+  /// Where the left-off and other-track weight of weight lies.
+  LostHitPlaces places;
   /// The same in bins of pT, |eta| and production radius.
   DiagnosticsHistogram pt;
   DiagnosticsHistogram absEta;
