@@ -1,10 +1,11 @@
 /// @file ExtensionTests.cpp
 /// The extension units (detail/TrackExtension.hpp, CatchAllExtension.hpp,
-/// InwardExtension.hpp) on synthetic helices: each takes the hits of the
-/// helix it is meant to follow, in track order, and no hit off the helix;
-/// each rejects bad configurations naming the key.
+/// InwardExtension.hpp, EndExtension.hpp) on synthetic helices: each takes the
+/// hits of the helix it is meant to follow, in track order, and no hit off the
+/// helix; each rejects bad configurations naming the key.
 
 #include "conftrack/reconstruction/finding/detail/CatchAllExtension.hpp"
+#include "conftrack/reconstruction/finding/detail/EndExtension.hpp"
 #include "conftrack/reconstruction/finding/detail/InwardExtension.hpp"
 #include "conftrack/reconstruction/finding/detail/TrackExtension.hpp"
 
@@ -21,6 +22,7 @@ namespace conftrack {
 namespace {
 
 using detail::CatchAllExtension;
+using detail::EndExtension;
 using detail::ExtensionCuts;
 using detail::InwardExtension;
 using detail::TrackExtension;
@@ -147,6 +149,56 @@ TEST(TrackExtension, GoesOutwardsOnly) {
   TrackExtension(extensionConfig(ev.cfg)).run(ev.state, ev.pool, ev.stats, t);
   EXPECT_EQ(ev.ids(t), (Ids{4, 5, 6, 7, 8}));
   EXPECT_EQ(ev.stats.extendedHits, 0u);
+}
+
+TEST(EndExtension, TakesTheHelixBeyondItsLastHit) {
+  const Detector det = test::barrelDetector();
+  test::Event ev(det, helix(det), test::oneBuildStep());
+  const std::uint32_t t = ev.addTrack({1, 2, 3, 4, 5});
+  EndExtension(EndExtension::Config::fromStep(ev.cfg.steps[0], ev.cfg))
+      .run(ev.state, ev.pool, ev.stats, t);
+  EXPECT_EQ(ev.ids(t), (Ids{1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_EQ(ev.stats.extendedHits, 3u);
+}
+
+TEST(EndExtension, LeavesTracksOfFewerThanFiveHitsAlone) {
+  const Detector det = test::barrelDetector();
+  test::Event ev(det, helix(det), test::oneBuildStep());
+  const std::uint32_t t = ev.addTrack({1, 2, 3, 4});
+  EndExtension::Config c =
+      EndExtension::Config::fromStep(ev.cfg.steps[0], ev.cfg);
+  EXPECT_EQ(c.minHits, 5u);
+  EndExtension(c).run(ev.state, ev.pool, ev.stats, t);
+  EXPECT_EQ(ev.ids(t), (Ids{1, 2, 3, 4}));
+  c.minHits = 4;
+  EndExtension(c).run(ev.state, ev.pool, ev.stats, t);
+  EXPECT_EQ(ev.ids(t), (Ids{1, 2, 3, 4, 5, 6, 7, 8}));
+}
+
+TEST(EndExtension, TakesAHitBeyondTheStepsAngleCut) {
+  // The hit of layer 5 (r = 100 mm) 2 mm off the helix, after a track of
+  // the five hits before it, with a chi2 cut that passes anything: the
+  // cell to it is beyond the step's (u, v) angle cut (0.05 rad; 1.5 mm is
+  // too, 1 mm is not), within three times it.
+  const Detector det = test::barrelDetector();
+  std::vector<Hit> hits = helix(det);
+  hits[5] = test::shiftedHit(det, 5, hits[5].position, 2.0, 100);
+  hits.resize(6);
+  FinderConfig cfg = test::oneBuildStep();
+  cfg.steps[0].chi2Cut = 1e5;
+  auto takes = [&](auto unit) {
+    test::Event ev(det, hits, cfg);
+    const std::uint32_t t = ev.addTrack({1, 2, 3, 4, 5});
+    unit.run(ev.state, ev.pool, ev.stats, t);
+    return ev.holds(t, 100);
+  };
+  EXPECT_FALSE(takes(
+      TrackExtension(TrackExtension::Config::fromStep(cfg.steps[0], cfg))));
+  EndExtension::Config end = EndExtension::Config::fromStep(cfg.steps[0], cfg);
+  EXPECT_DOUBLE_EQ(end.angleFactor, 3.0);
+  EXPECT_TRUE(takes(EndExtension(end)));
+  end.angleFactor = 1.0;
+  EXPECT_FALSE(takes(EndExtension(end)));
 }
 
 TEST(InwardExtension, CompletesATrackTowardsTheIp) {
@@ -325,6 +377,28 @@ TEST(ExtensionConfig, RejectsBadValuesNamingTheKey) {
         TrackExtension({bad([](auto& c) { c.lookahead = -1; }), true});
       },
       "extension_lookahead");
+}
+
+TEST(EndExtension, ConfigFromTheFinderKeys) {
+  FinderConfig cfg = test::oneBuildStep();
+  cfg.extensionPhiWindow = 0.02;
+  cfg.finalExtensionPhiWindow = 0.09;
+  cfg.finalExtensionAngleFactor = 4.0;
+  const EndExtension::Config c =
+      EndExtension::Config::fromStep(cfg.steps[0], cfg);
+  EXPECT_DOUBLE_EQ(c.cuts.phiWindow, 0.09);
+  EXPECT_DOUBLE_EQ(c.angleFactor, 4.0);
+  EXPECT_DOUBLE_EQ(c.cuts.maxCellAngle, cfg.steps[0].maxCellAngle);
+  EXPECT_DOUBLE_EQ(c.cuts.chi2Cut, cfg.steps[0].chi2Cut);
+  EndExtension::Config bad = c;
+  bad.angleFactor = 0.5;
+  expectRejected([&] { EndExtension{bad}; }, "final_extension_angle_factor");
+  bad = c;
+  bad.cuts.phiWindow = 0.0;
+  expectRejected([&] { EndExtension{bad}; }, "final_extension_phi_window");
+  bad = c;
+  bad.minHits = 2;
+  expectRejected([&] { EndExtension{bad}; }, "minHits");
 }
 
 }  // namespace

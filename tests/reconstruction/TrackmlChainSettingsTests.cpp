@@ -75,6 +75,11 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(helix.maxCellAngleRZ, 0.001);
   // The files' particles end after half a turn.
   EXPECT_DOUBLE_EQ(c.maxTrackTurns, 0.5);
+  // Every conformal track followed outwards once more at the end, with
+  // loosened cuts (algorithm.md 3.23).
+  EXPECT_TRUE(c.finalExtension);
+  EXPECT_DOUBLE_EQ(c.finalExtensionAngleFactor, 3.0);
+  EXPECT_DOUBLE_EQ(c.finalExtensionPhiWindow, 0.06);
   // ... so no track is a further half-turn of another.
   EXPECT_TRUE(c.trackMerging);
   EXPECT_FALSE(c.mergeDropTurns);

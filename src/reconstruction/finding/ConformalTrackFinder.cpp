@@ -1,6 +1,7 @@
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 
 #include "conftrack/core/Units.hpp"
+#include "conftrack/reconstruction/finding/detail/EndExtension.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 #include "conftrack/reconstruction/finding/detail/OverlapHits.hpp"
 #include "conftrack/reconstruction/finding/detail/SharedHitResolution.hpp"
@@ -202,10 +203,9 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
     result.steps.push_back(std::move(stats));
   }
 
-  if (chain.finalHoleFilling && !state.tracks.empty()) {
-    const auto tStep = Clock::now();
-    StepStats stats;
-    stats.name = "HoleFilling";
+  if ((chain.finalHoleFilling || chain.finalExtension) &&
+      !state.tracks.empty()) {
+    auto tStep = Clock::now();
     std::vector<std::uint16_t> collections;
     for (const FindingStep& step : chain.steps) {
       collections.insert(collections.end(), step.collections.begin(),
@@ -219,19 +219,40 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
         members.push_back(h);
       }
     }
+    // One pool of the hits no track holds for both stages: each stage skips
+    // the hits the one before claimed (the used flags).
+    std::optional<HitPool> all;
     if (!members.empty()) {
-      HitPool all(conformal, std::move(members));
-      detail::fillHoles(state, all, stats);
-      // Overlap partners among the hits no step's search reached or the
-      // shared-hit resolution released.
-      if (chain.overlapHits) {
-        detail::addOverlapHits(state, all, stats);
-      }
+      all.emplace(conformal, std::move(members));
     }
-    stats.hitsUsed = static_cast<std::uint64_t>(
-        std::count(state.used.begin(), state.used.end(), 1));
-    stats.milliseconds = msSince(tStep);
-    result.steps.push_back(std::move(stats));
+    auto finish = [&](StepStats& stats) {
+      stats.hitsUsed = static_cast<std::uint64_t>(
+          std::count(state.used.begin(), state.used.end(), 1));
+      stats.milliseconds = msSince(tStep);
+      result.steps.push_back(std::move(stats));
+      tStep = Clock::now();
+    };
+    if (chain.finalExtension) {
+      StepStats stats;
+      stats.name = "EndExtension";
+      if (all) {
+        detail::extendTrackEnds(state, *all, stats);
+      }
+      finish(stats);
+    }
+    if (chain.finalHoleFilling) {
+      StepStats stats;
+      stats.name = "HoleFilling";
+      if (all) {
+        detail::fillHoles(state, *all, stats);
+        // Overlap partners among the hits no step's search reached or the
+        // shared-hit resolution released.
+        if (chain.overlapHits) {
+          detail::addOverlapHits(state, *all, stats);
+        }
+      }
+      finish(stats);
+    }
   }
 
   if (chain.trackMerging && state.tracks.size() > 1) {

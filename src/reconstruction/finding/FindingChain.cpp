@@ -214,6 +214,12 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         f.getBool("scattering_allowance", cfg.scatteringAllowance);
     cfg.inwardScatteringAllowance =
         f.getBool("inward_scattering_allowance", cfg.inwardScatteringAllowance);
+    cfg.finalExtension = f.getBool("final_extension", cfg.finalExtension);
+    cfg.finalExtensionAngleFactor = quantity(
+        f, "final_extension_angle_factor", 1.0, cfg.finalExtensionAngleFactor);
+    cfg.finalExtensionPhiWindow =
+        quantity(f, "final_extension_phi_window", units::rad,
+                 cfg.finalExtensionPhiWindow);
     cfg.overlapHits = f.getBool("overlap_hits", cfg.overlapHits);
     cfg.fieldCorrection = f.getBool("field_correction", cfg.fieldCorrection);
     cfg.overlapMaxChi2 =

@@ -333,6 +333,22 @@ struct FinderConfig {
   /// deflection (chain key inward_scattering_allowance; the TrackML chain
   /// keeps it while switching scattering_allowance off).
   bool inwardScatteringAllowance = true;
+  /// After the last step and the shared-hit resolution, before the final
+  /// hole filling: every conformal track is followed outwards once more
+  /// from its last hit over the hits no track holds, in all the chain's
+  /// collections, with its step's cuts loosened (detail/EndExtension.hpp;
+  /// chain key final_extension, off by default). A conftrack addition
+  /// (issue 15): on TrackML the extensions stopped before a tenth of the
+  /// found particles' weight, mostly where scattering or the solenoid's
+  /// end bent the track more than their cuts allow; on CLICdet the same
+  /// pass took other particles' hits (algorithm.md 3.23).
+  bool finalExtension = false;
+  /// Multiplier of the step's cell-angle cuts in that pass (chain key
+  /// final_extension_angle_factor).
+  double finalExtensionAngleFactor = 3.0;
+  /// Half-width of its azimuth window around a predicted crossing [rad]
+  /// (chain key final_extension_phi_window).
+  double finalExtensionPhiWindow = 0.06;
   /// In a non-uniform field (a solenoid's, Detector::field()), map each
   /// hit to the conformal plane at the radius where a track from the beam
   /// line in the central field would cross its azimuth (PromptBending), and
