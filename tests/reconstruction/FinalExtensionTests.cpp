@@ -60,14 +60,12 @@ struct Outcome {
 };
 
 Outcome reconstruct(const Event& event, bool finalExtension) {
-  const Detector detector = loadDetector("trackml");
-  Reconstruction::Config config =
-      readReconstructionConfig(resolveChainPath("trackml"), detector);
-  EXPECT_TRUE(config.chain.finalExtension)
-      << "the shipped chain has no final extension";
-  config.chain.finalExtension = finalExtension;
-  const Reconstruction::Result result =
-      Reconstruction(detector, config).run(event.hits);
+  const Reconstruction::Result result = test::reconstructWithTrackmlChain(
+      event, [&](Reconstruction::Config& config) {
+        EXPECT_TRUE(config.chain.finalExtension)
+            << "the shipped chain has no final extension";
+        config.chain.finalExtension = finalExtension;
+      });
   Outcome out;
   out.score = scoreTrackml(event, test::hitLists(result.tracks));
   for (const StepStats& s : result.steps) {

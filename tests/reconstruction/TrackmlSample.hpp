@@ -9,8 +9,10 @@
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Event.hpp"
 #include "conftrack/evaluation/TruthMatching.hpp"
+#include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/geometry/TrackmlDetector.hpp"
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
+#include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/simulation/LuminousRegion.hpp"
 #include "conftrack/simulation/TrackmlEvents.hpp"
@@ -19,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -125,6 +128,18 @@ std::vector<std::vector<HitIndex>> hitLists(
     lists.push_back(t.hits);
   }
   return lists;
+}
+
+/// `event` reconstructed with the shipped TrackML chain after `change`
+/// (e.g. one setting switched off, for a with/without comparison).
+inline Reconstruction::Result reconstructWithTrackmlChain(
+    const Event& event,
+    const std::function<void(Reconstruction::Config&)>& change) {
+  const Detector detector = loadDetector("trackml");
+  Reconstruction::Config config =
+      readReconstructionConfig(resolveChainPath("trackml"), detector);
+  change(config);
+  return Reconstruction(detector, config).run(event.hits);
 }
 
 /// Hits of their majority particle on the found tracks, summed (tracks

@@ -3,7 +3,6 @@
 #include "conftrack/reconstruction/finding/detail/EndExtension.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 namespace conftrack::detail {
@@ -20,12 +19,7 @@ EndExtension::Config EndExtension::Config::fromStep(
 EndExtension::EndExtension(const Config& config) : m_config(config) {
   // The window is the final extension's own key; the rest are the step's
   // and the finder's.
-  if (!(m_config.cuts.phiWindow > 0.0 &&
-        m_config.cuts.phiWindow <= std::numbers::pi)) {
-    throwBadKey("EndExtension", "final_extension_phi_window",
-                "must be in (0, pi]", m_config.cuts.phiWindow);
-  }
-  m_config.cuts.validate("EndExtension");
+  m_config.cuts.validate("EndExtension", "final_extension_phi_window");
   if (m_config.minHits < 3) {
     throwBadKey("EndExtension", "minHits", "must be at least 3",
                 static_cast<double>(m_config.minHits));

@@ -371,7 +371,8 @@ double ExtensionCuts::maxHitChi2(const ConformalFitResult& uv,
   return std::max(hitChi2Floor, hitChi2Ratio * perDof);
 }
 
-void ExtensionCuts::validate(std::string_view unit) const {
+void ExtensionCuts::validate(std::string_view unit,
+                             std::string_view phiWindowKey) const {
   // NaN fails every comparison, so each check is written to pass only
   // for good values.
   if (!(maxCellAngle > 0.0 && maxCellAngle <= kMaxSearchAngle)) {
@@ -390,8 +391,7 @@ void ExtensionCuts::validate(std::string_view unit) const {
                 chi2PtScale);
   }
   if (!(phiWindow > 0.0 && phiWindow <= kMaxSearchAngle)) {
-    throwBadKey(unit, "extension_phi_window", "must be in (0, 3.14159] rad",
-                phiWindow);
+    throwBadKey(unit, phiWindowKey, "must be in (0, 3.14159] rad", phiWindow);
   }
   if (maxWindowHits < 1) {
     throwBadKey(unit, "max_window_hits", "must be at least 1",

@@ -57,7 +57,10 @@ struct ExtensionCuts {
                                 const FinderConfig& finder);
   /// Throws std::invalid_argument naming the key of the first value out of
   /// range (the ranges of the chain validation); `unit` starts the message.
-  void validate(std::string_view unit) const;
+  /// `phiWindowKey` names the finder key phiWindow came from (the final
+  /// extension has its own).
+  void validate(std::string_view unit,
+                std::string_view phiWindowKey = "extension_phi_window") const;
 };
 
 /// What distinguishes the ways of following a track.
