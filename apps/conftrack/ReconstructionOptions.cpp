@@ -1,5 +1,8 @@
 #include "ReconstructionOptions.hpp"
 
+#include "conftrack/core/Units.hpp"
+#include "conftrack/reconstruction/finding/FindingChain.hpp"
+
 #include "OptionChecks.hpp"
 
 namespace conftrack::cli {
@@ -15,6 +18,14 @@ void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& o) {
          "Mass hypothesis of the fit (PDG code: 211, 13, 11, 321, 2212)")
       ->capture_default_str()
       ->check(pdgCode());
+  cmd.add_option("--beam-spot", o.beamSpot,
+                 "Transverse position X,Y of the beam line [mm], about which "
+                 "the finder maps hits to the conformal plane (default: the "
+                 "chain's beam_spot_x_mm, beam_spot_y_mm, else 0,0)")
+      ->expected(2)
+      ->delimiter(',')
+      ->check(finiteNumber(-kMaxBeamSpotOffset / units::mm,
+                           kMaxBeamSpotOffset / units::mm));
 }
 
 Reconstruction::Config makeReconstructionConfig(const ReconstructionOptions& o,
@@ -24,6 +35,9 @@ Reconstruction::Config makeReconstructionConfig(const ReconstructionOptions& o,
   choice.chain = o.chain;
   choice.fit = !o.noFit;
   choice.fitPdg = o.fitPdg;
+  if (o.beamSpot.size() == 2) {
+    choice.beamSpot = Vector2(o.beamSpot[0], o.beamSpot[1]);
+  }
   return conftrack::makeReconstructionConfig(choice, detector);
 }
 

@@ -12,6 +12,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace conftrack::cli {
 
@@ -22,9 +23,11 @@ struct ReconstructionOptions {
   bool noFit = false;
   /// Mass hypothesis of the fit (PDG code).
   int fitPdg = 211;
+  /// --beam-spot X,Y [mm]; empty: the chain's.
+  std::vector<double> beamSpot;
 };
 
-/// Adds --detector, --chain, --no-fit, --fit-pdg.
+/// Adds --detector, --chain, --no-fit, --fit-pdg, --beam-spot.
 void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& options);
 
 /// loadSensorLayout (frontend/ReconstructionSetup.hpp), used unqualified

@@ -20,6 +20,25 @@ def flag(key, value):
     return value
 
 
+def beam_spot(key, value):
+    """`value` as None or a pair (x, y) of finite numbers [mm] within 10 mm
+    of the detector axis (FinderConfig::beamSpotX, beamSpotY)."""
+    if value is None:
+        return None
+    if (isinstance(value, (str, bytes)) or not hasattr(value, "__len__")
+            or len(value) != 2):
+        raise TypeError(f"{key}: expected a pair (x, y) in mm, got {value!r}")
+    pair = []
+    for v in value:
+        if isinstance(v, bool) or not isinstance(v, numbers.Real):
+            raise TypeError(f"{key}: expected numbers, got {value!r}")
+        if not (math.isfinite(v) and abs(v) <= 10.0):
+            raise ValueError(f"{key}: must be finite and within 10 mm of the "
+                             f"detector axis, got {value!r}")
+        pair.append(float(v))
+    return tuple(pair)
+
+
 def text(key, value):
     if not isinstance(value, str):
         raise TypeError(f"{key}: expected a string, got {value!r}")

@@ -4,6 +4,7 @@ import numpy as np
 import pandas as pd
 
 from . import _conftrack
+from ._arguments import beam_spot as check_beam_spot
 from ._arguments import flag, whole_number
 from ._detector import Detector, as_detector
 
@@ -108,40 +109,47 @@ def hit_columns(hits, key="hits"):
 _reconstructors = {}
 
 
-def _reconstructor(detector, chain, fit, fit_pdg, module_level):
+def _reconstructor(detector, chain, fit, fit_pdg, module_level,
+                   beam_spot=None):
     det = as_detector(detector)
     if chain is not None and not isinstance(chain, str):
         raise TypeError(f"chain: expected a chain name or TOML file, "
                         f"got {chain!r}")
     key = (det if isinstance(detector, Detector) else detector, chain,
            flag("fit", fit), whole_number("fit_pdg", fit_pdg, minimum=-10**9),
-           flag("module_level", module_level))
+           flag("module_level", module_level),
+           check_beam_spot("beam_spot", beam_spot))
     if key not in _reconstructors:
         if len(_reconstructors) >= 8:
             _reconstructors.clear()
         _reconstructors[key] = _conftrack.Reconstructor(
-            det._handle, chain or "", fit, fit_pdg, module_level)
+            det._handle, chain or "", fit, fit_pdg, module_level, key[-1])
     return _reconstructors[key]
 
 
 def reconstruct(hits, detector="clicdet", chain=None, fit=True, fit_pdg=211,
-                module_level=False):
+                module_level=False, beam_spot=None):
     """Finds, fits and selects the tracks of one event, as `conftrack
     reconstruct` does for a hits file. `hits`: a DataFrame or a dict of
     numpy arrays with the TrackML hit columns (hit_id, x, y, z, volume_id,
     layer_id, module_id; sigma_u, sigma_v optional), or an Event. `chain`:
-    a chain name or TOML file (default: the detector's). Returns a Result.
+    a chain name or TOML file (default: the detector's). `beam_spot`: the
+    transverse position (x, y) of the beam line in mm, as --beam-spot
+    (default: the chain's). Returns a Result.
     """
-    reco = _reconstructor(detector, chain, fit, fit_pdg, module_level)
+    reco = _reconstructor(detector, chain, fit, fit_pdg, module_level,
+                          beam_spot)
     return Result(reco.run(hit_columns(hits)))
 
 
 def reconstruct_many(events, detector="clicdet", chain=None, fit=True,
-                     fit_pdg=211, module_level=False, threads=0):
+                     fit_pdg=211, module_level=False, threads=0,
+                     beam_spot=None):
     """reconstruct() of each element of `events` (hits as for reconstruct),
     `threads` events at a time (0: all cores) with the GIL released. The
     results are those of reconstruct() one by one, in the same order."""
-    reco = _reconstructor(detector, chain, fit, fit_pdg, module_level)
+    reco = _reconstructor(detector, chain, fit, fit_pdg, module_level,
+                          beam_spot)
     columns = [hit_columns(h, key=f"events[{i}]") for i, h in enumerate(events)]
     return [Result(r) for r in
             reco.run_many(columns, whole_number("threads", threads))]

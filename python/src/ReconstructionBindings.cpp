@@ -12,8 +12,10 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <pybind11/stl.h>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Bindings.hpp"
@@ -34,14 +36,20 @@ double millisecondsSince(Clock::time_point t0) {
 /// A detector's reconstruction as the CLI sets it up.
 class Reconstructor {
  public:
+  /// `beamSpot`: (x, y) [mm] of the beam line, or none (the chain's).
   Reconstructor(const DetectorHandle& detector, const std::string& chain,
-                bool fit, int fitPdg, bool moduleLevel)
+                bool fit, int fitPdg, bool moduleLevel,
+                std::optional<std::pair<double, double>> beamSpot)
       : m_detector(detector.detector) {
     ReconstructionChoice choice;
     choice.detector = detector.source;
     choice.chain = chain;
     choice.fit = fit;
     choice.fitPdg = fitPdg;
+    if (beamSpot) {
+      choice.beamSpot =
+          Vector2(beamSpot->first * units::mm, beamSpot->second * units::mm);
+    }
     m_reco = std::make_unique<Reconstruction>(
         *m_detector, makeReconstructionConfig(choice, *m_detector),
         loadSensorLayout(*m_detector, moduleLevel));
@@ -245,10 +253,10 @@ void bindReconstruction(py::module_& m) {
       .def("statistics", &statistics);
 
   py::class_<Reconstructor>(m, "Reconstructor")
-      .def(py::init<const DetectorHandle&, const std::string&, bool, int,
-                    bool>(),
+      .def(py::init<const DetectorHandle&, const std::string&, bool, int, bool,
+                    std::optional<std::pair<double, double>>>(),
            py::arg("detector"), py::arg("chain"), py::arg("fit"),
-           py::arg("fit_pdg"), py::arg("module_level"))
+           py::arg("fit_pdg"), py::arg("module_level"), py::arg("beam_spot"))
       .def("run", &Reconstructor::run, py::arg("hits"))
       .def("run_many", &Reconstructor::runMany, py::arg("events"),
            py::arg("threads"));

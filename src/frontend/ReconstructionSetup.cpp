@@ -7,7 +7,9 @@
 #include "conftrack/geometry/TrackmlModuleLayout.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
 
+#include <cmath>
 #include <filesystem>
+#include <string>
 
 namespace conftrack {
 
@@ -52,6 +54,20 @@ Reconstruction::Config makeReconstructionConfig(
       readReconstructionConfig(resolveChainPath(chain), detector);
   c.fit = choice.fit;
   c.fitter.pdg = choice.fitPdg;
+  if (choice.beamSpot) {
+    const Vector2& b = *choice.beamSpot;
+    for (int k = 0; k < 2; ++k) {
+      if (!(std::abs(b[k]) <= kMaxBeamSpotOffset)) {
+        throw InputError(
+            "--beam-spot: " + std::string(k == 0 ? "x" : "y") +
+            " must be finite and within " +
+            std::to_string(static_cast<int>(kMaxBeamSpotOffset / units::mm)) +
+            " mm of the detector axis");
+      }
+    }
+    c.chain.beamSpotX = b.x();
+    c.chain.beamSpotY = b.y();
+  }
   return c;
 }
 

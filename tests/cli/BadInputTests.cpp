@@ -375,6 +375,12 @@ std::vector<BadInput> commandLineCases() {
        R"(^--fit-pdg: unknown PDG code '0' \(known: 11, 13, 211, 321, 2212 and their negatives\))"},
       {"FitPdgIntMin", nothing, kRecoIn + " --fit-pdg -2147483648",
        R"(^--fit-pdg: unknown PDG code '-2147483648')"},
+      {"BeamSpotOneValue", nothing, kRecoIn + " --beam-spot 0.5",
+       R"(^--beam-spot: At least 2 required but received 1)"},
+      {"BeamSpotFarOff", nothing, kRecoIn + " --beam-spot 0,-11",
+       R"(^--beam-spot: -11 is out of range \[-10, 10\])"},
+      {"BeamSpotNaN", nothing, kRecoIn + " --beam-spot nan,0",
+       R"(^--beam-spot: 'nan' is not a finite number in \[-10, 10\])"},
       {"FirstEventOverflow", nothing,
        "simulate --sample muons --first-event 18446744073709551615 -n 2 -o "
        "{dir}/o",

@@ -195,6 +195,24 @@ TEST(Chain, ValuesTakeTheUnitsOfTheirKeys) {
   EXPECT_DOUBLE_EQ(s.highPtCut, 10.0 * units::GeV);
 }
 
+TEST(Chain, BeamSpotKeys) {
+  const Detector det = loadDetector("clicdet");
+  const FinderConfig axis = parseChain(kStep, "chain.toml", det);
+  EXPECT_EQ(axis.beamSpotX, 0.0);
+  EXPECT_EQ(axis.beamSpotY, 0.0);
+  const FinderConfig off = parseChain(
+      "[finder]\nbeam_spot_x_mm = 0.7\nbeam_spot_y_mm = -0.25\n" + kStep,
+      "chain.toml", det);
+  EXPECT_DOUBLE_EQ(off.beamSpotX, 0.7 * units::mm);
+  EXPECT_DOUBLE_EQ(off.beamSpotY, -0.25 * units::mm);
+  EXPECT_EQ(errorOf("[finder]\nbeam_spot_y_mm = 12\n" + kStep),
+            "chain.toml:2: key 'finder.beam_spot_y_mm': value 12 out of "
+            "range [-10, 10]");
+  EXPECT_NE(errorOf("[finder]\nbeam_spot_x_mm = nan\n" + kStep)
+                .find("chain.toml:2: key 'finder.beam_spot_x_mm'"),
+            std::string::npos);
+}
+
 /// A valid chain built in code: one build step over the vertex barrel.
 FinderConfig codeChain(const Detector& det) {
   FinderConfig c;

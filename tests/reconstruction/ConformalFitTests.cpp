@@ -68,6 +68,31 @@ TEST(ConformalTransform, BendingFactorMovesTheHitToRadiusGR) {
   EXPECT_EQ(mapped.phi[0], plain.phi[0]);
 }
 
+TEST(ConformalTransform, MapIsTakenAboutTheBeamSpot) {
+  // A beam line at (1.5, -2) mm: the hit's position, radius and azimuth
+  // relative to it, and u, v of that position; z unchanged. The hit 0.5 um
+  // from it has no mapping, wherever the detector axis is.
+  Detector det = barrelDetector();
+  const Vector2 beam(1.5, -2.0);
+  std::vector<Hit> hits{test::barrelHit(det, 2, 31.5, 38.0, 7.0, 1)};
+  const ConformalHits ch = makeConformalHits(hits, det, nullptr, beam);
+  EXPECT_DOUBLE_EQ(ch.x[0], 30.0);
+  EXPECT_DOUBLE_EQ(ch.y[0], 40.0);
+  EXPECT_DOUBLE_EQ(ch.z[0], 7.0);
+  EXPECT_DOUBLE_EQ(ch.radius[0], 50.0);
+  EXPECT_DOUBLE_EQ(ch.phi[0], std::atan2(40.0, 30.0));
+  EXPECT_DOUBLE_EQ(ch.u[0], 30.0 / 2500.0);
+  EXPECT_DOUBLE_EQ(ch.v[0], 40.0 / 2500.0);
+  EXPECT_DOUBLE_EQ(ch.rc[0], 1.0 / 50.0);
+  // The default is the detector axis.
+  const ConformalHits axis = makeConformalHits(hits, det);
+  EXPECT_DOUBLE_EQ(axis.x[0], 31.5);
+  EXPECT_DOUBLE_EQ(axis.u[0], 31.5 / (31.5 * 31.5 + 38.0 * 38.0));
+  std::vector<Hit> onBeam{test::barrelHit(det, 2, 1.5, -1.9995, 7.0, 2)};
+  EXPECT_THROW(makeConformalHits(onBeam, det, nullptr, beam), InputError);
+  EXPECT_NO_THROW(makeConformalHits(onBeam, det));
+}
+
 TEST(ConformalTransform, HitOnAxisIsRejected) {
   Detector det = barrelDetector();
   std::vector<Hit> hits{test::barrelHit(det, 2, 0.0, 0.0, 7.0, 1)};

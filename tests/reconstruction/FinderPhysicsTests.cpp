@@ -9,6 +9,7 @@
 #include "conftrack/geometry/LayoutFile.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/simulation/EventSimulation.hpp"
+#include "conftrack/simulation/LuminousRegion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -262,6 +263,56 @@ TEST_F(FinderPhysics, FewDuplicatesWith30BunchCrossings) {
   std::printf("[ ttbar + 30 BX duplicates ] %.4f (%zu/%zu)\n",
               ratio(s.duplicates, s.tracks), s.duplicates, s.tracks);
   EXPECT_LE(ratio(s.duplicates, s.tracks), 0.012);
+}
+
+TEST_F(FinderPhysics, BeamsCollidingOffTheAxis) {
+  // The beams collide 0.7 mm beside and 0.5 mm below the detector axis.
+  // With the conformal map about that beam line (finder keys
+  // beam_spot_x_mm, beam_spot_y_mm) the finder does as well as on the same
+  // events with the beams on the axis; with the map about the axis, prompt
+  // tracks are no straight lines in the conformal plane and break into
+  // pieces. tt-bar, 20 events, pT > 1 GeV, the finder's tracks (before
+  // fit and selection), measured: on the axis efficiency 0.9843, impure
+  // tracks 1.77 %, duplicates 2.06 %; off it, map about the beams 0.9852,
+  // 1.83 %, 1.95 %; map about the axis 0.8983, 16.2 %, 14.5 %. The
+  // tolerance, 0.5 % on each rate, is about 1.5 standard deviations of
+  // one rate over these 1,700 tracks and 1,150 particles.
+  EventSimulation::Config cfg;
+  cfg.sample = "ttbar3tev";
+  cfg.seed = 41;
+  const LuminousRegion::Preset* clic = LuminousRegion::findPreset("clic3tev");
+  ASSERT_NE(clic, nullptr);
+  LuminousRegion::Config region = clic->config;
+  EventSimulation::Config onAxis = cfg;
+  onAxis.luminousRegion = region;
+  region.position = Vector3(0.7 * units::mm, -0.5 * units::mm, 0.0);
+  cfg.luminousRegion = region;
+  FinderConfig chain = readChain(resolveChainPath("clicdet"), *s_detector);
+  chain.beamSpotX = 0.7 * units::mm;
+  chain.beamSpotY = -0.5 * units::mm;
+  const ConformalTrackFinder atBeam(*s_detector, {chain});
+  const Score centred = score(*s_detector, *s_finder, onAxis, 20, 1.0);
+  const Score s = score(*s_detector, atBeam, cfg, 20, 1.0);
+  const Score axis = score(*s_detector, *s_finder, cfg, 20, 1.0);
+  for (const auto& [name, x] :
+       {std::pair<const char*, const Score&>{"beams on the axis", centred},
+        {"beams off it, map about them", s},
+        {"beams off it, map about the axis", axis}}) {
+    report(name, x);
+    std::printf("[ %s ] duplicates %.4f (%zu/%zu)\n", name,
+                ratio(x.duplicates, x.tracks), x.duplicates, x.tracks);
+  }
+  constexpr double kTolerance = 0.005;
+  EXPECT_GE(ratio(s.clicdpFound, s.clicdpParticles), 0.995);
+  EXPECT_GE(ratio(s.found, s.particles),
+            ratio(centred.found, centred.particles) - kTolerance);
+  EXPECT_LE(ratio(s.impure, s.tracks),
+            ratio(centred.impure, centred.tracks) + kTolerance);
+  EXPECT_LE(ratio(s.duplicates, s.tracks),
+            ratio(centred.duplicates, centred.tracks) + kTolerance);
+  // Premise: the sample shows what the beam spot is for.
+  EXPECT_LT(ratio(axis.found, axis.particles), 0.95);
+  EXPECT_GE(ratio(axis.duplicates, axis.tracks), 0.05);
 }
 
 TEST_F(FinderPhysics, NoTrackHoldsAHitTwiceWithSensors) {

@@ -10,6 +10,7 @@
 #include "conftrack/reconstruction/Reconstruction.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace conftrack {
@@ -24,6 +25,9 @@ struct ReconstructionChoice {
   bool fit = true;
   /// Mass hypothesis of the fit (PDG code).
   int fitPdg = 211;
+  /// Transverse position of the beam line [mm], replacing the chain's
+  /// (FinderConfig::beamSpotX, beamSpotY); unset: the chain's.
+  std::optional<Vector2> beamSpot;
 };
 
 /// The sensors on whose planes the fit measures hits read from files

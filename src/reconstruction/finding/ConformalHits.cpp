@@ -32,12 +32,16 @@ Matrix2 ConformalHits::covariance(ConfIndex i) const {
 
 ConformalHits makeConformalHits(std::span<const Hit> hits,
                                 const Detector& detector,
-                                const PromptBending* bending) {
+                                const PromptBending* bending,
+                                const Vector2& beamSpot) {
   const bool warp = bending != nullptr && !bending->isUniform();
   const std::size_t n = hits.size();
+  // Transverse positions relative to the beam line.
+  std::vector<Vector2> xy(n);
   std::vector<double> radius(n);
   for (std::size_t i = 0; i < n; ++i) {
-    radius[i] = hits[i].position.head<2>().norm();
+    xy[i] = hits[i].position.head<2>() - beamSpot;
+    radius[i] = xy[i].norm();
     // As the hits reader: within 1 um of the beam line u = x / r^2 and the
     // variances / r^4 overflow; a non-finite position has no mapping.
     if (!(radius[i] >= kMinConformalRadius) || !std::isfinite(radius[i]) ||
@@ -79,14 +83,16 @@ ConformalHits makeConformalHits(std::span<const Hit> hits,
     double r2 = r * r * g;
     ch.original.push_back(i);
     ch.id.push_back(h.id);
-    ch.x.push_back(h.position.x());
-    ch.y.push_back(h.position.y());
+    const double x = xy[i].x();
+    const double y = xy[i].y();
+    ch.x.push_back(x);
+    ch.y.push_back(y);
     ch.z.push_back(h.position.z());
     ch.radius.push_back(r);
-    ch.u.push_back(h.position.x() / r2);
-    ch.v.push_back(h.position.y() / r2);
+    ch.u.push_back(x / r2);
+    ch.v.push_back(y / r2);
     ch.rc.push_back(1.0 / (r * g));
-    ch.phi.push_back(std::atan2(h.position.y(), h.position.x()));
+    ch.phi.push_back(std::atan2(y, x));
     // u is r-phi on both barrels and disks; v is z (barrel) or radial.
     double sigmaT = h.sigmaU;
     double sigmaR = l.isDisk() ? h.sigmaV : 0.0;

@@ -84,7 +84,8 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
   const auto tEvent = Clock::now();
   const FinderConfig& chain = m_config.chain;
   ConformalHits conformal =
-      makeConformalHits(hits, *m_detector, m_bending.get());
+      makeConformalHits(hits, *m_detector, m_bending.get(),
+                        Vector2(chain.beamSpotX, chain.beamSpotY));
   double bz = chain.legacyFourTesla ? 4.0 * units::T : m_detector->bz();
   detail::FinderState state(conformal, *m_detector, chain, bz);
   state.bending = m_bending.get();

@@ -222,6 +222,8 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
                  cfg.finalExtensionPhiWindow);
     cfg.overlapHits = f.getBool("overlap_hits", cfg.overlapHits);
     cfg.fieldCorrection = f.getBool("field_correction", cfg.fieldCorrection);
+    cfg.beamSpotX = quantity(f, "beam_spot_x_mm", units::mm, cfg.beamSpotX);
+    cfg.beamSpotY = quantity(f, "beam_spot_y_mm", units::mm, cfg.beamSpotY);
     cfg.overlapMaxChi2 =
         quantity(f, "overlap_max_chi2", 1.0, cfg.overlapMaxChi2);
     cfg.overlapMaxArc =

@@ -33,13 +33,15 @@ using ConfIndex = std::uint32_t;
 struct ConformalHits {
   std::vector<HitIndex> original;  ///< index into the event's hits
   std::vector<std::uint64_t> id;   ///< stable hit id (tie-breaks)
-  std::vector<double> x, y, z;     ///< global position [mm]
-  std::vector<double> radius;      ///< R = sqrt(x^2 + y^2) [mm]
-  std::vector<double> u, v;        ///< conformal coordinates [1/mm]
-  std::vector<double> rc;          ///< conformal radius |(u, v)| [1/mm]
-  std::vector<double> phi;         ///< azimuth atan2(y, x) in (-pi, pi]
-  std::vector<double> varT;        ///< tangential variance, conformal
-  std::vector<double> varR;        ///< radial variance, conformal
+  /// Position [mm]: x and y relative to the beam line (the beamSpot of
+  /// makeConformalHits), z global.
+  std::vector<double> x, y, z;
+  std::vector<double> radius;  ///< R = sqrt(x^2 + y^2) [mm]
+  std::vector<double> u, v;    ///< conformal coordinates [1/mm]
+  std::vector<double> rc;      ///< conformal radius |(u, v)| [1/mm]
+  std::vector<double> phi;     ///< azimuth atan2(y, x) in (-pi, pi]
+  std::vector<double> varT;    ///< tangential variance, conformal
+  std::vector<double> varR;    ///< radial variance, conformal
   std::vector<double> covUU, covUV, covVV;  ///< (u, v) covariance
   std::vector<double> varZ;                 ///< z variance [mm^2] (0 on disks)
   std::vector<double> varRxy;        ///< radial variance [mm^2] (0 barrel)
@@ -78,9 +80,21 @@ struct ConformalHits {
 /// moves to radius g r at its azimuth, where the circle of a track from
 /// the beam line in the central field passes (PromptBending), so that
 /// such tracks are straight lines in the conformal plane again. x, y, z,
-/// radius and phi stay the measured ones.
+/// radius and phi are those of the measured position, not of the moved
+/// one.
+///
+/// `beamSpot` is the transverse position of the beam line [mm]: the map
+/// is taken about it (u = (x - x0) / R'^2 with R' the distance from it),
+/// so that the tracks of particles from the luminous region are straight
+/// lines through the origin of the conformal plane wherever the beams
+/// collide, and x, y, radius and phi are stored relative to it. The
+/// detector's layers stay where they are: they are cylinders and disks
+/// about the detector axis, which the finder's layer crossings, a few
+/// millimetres of window wide, treat as centred on the beam line
+/// (docs/algorithm.md 3.24).
 ConformalHits makeConformalHits(std::span<const Hit> hits,
                                 const Detector& detector,
-                                const PromptBending* bending = nullptr);
+                                const PromptBending* bending = nullptr,
+                                const Vector2& beamSpot = Vector2::Zero());
 
 }  // namespace conftrack
