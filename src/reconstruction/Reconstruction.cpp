@@ -120,6 +120,7 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   r.findingMs = found.milliseconds;
   r.steps = std::move(found.steps);
   r.vertexRegions = std::move(found.vertexRegions);
+  r.beamSpot = found.beamSpot;
   fitAndSelect(hits, std::move(found.tracks), r);
   if (m_config.secondPassSteps.empty()) {
     return r;
@@ -133,7 +134,7 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
     }
   }
   const ConformalTrackFinder::Pass pass{m_config.secondPassSteps, taken,
-                                        r.vertexRegions};
+                                        r.vertexRegions, r.beamSpot};
   FindingResult second = m_finder.run(hits, pass);
   r.findingMs += second.milliseconds;
   for (StepStats& s : second.steps) {

@@ -67,6 +67,9 @@ class Reconstruction {
     std::size_t secondPassTracks = 0;
     /// The finder's vertex regions (FindingResult::vertexRegions).
     std::vector<std::pair<double, double>> vertexRegions;
+    /// The beam line about which the finder mapped the hits
+    /// (FindingResult::beamSpot) [mm].
+    Vector2 beamSpot = Vector2::Zero();
     std::size_t candidates = 0;
     std::size_t fitFailures = 0;
     /// Pairs of pieces merged after the fit (SplitTrackMerger).

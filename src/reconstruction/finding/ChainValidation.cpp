@@ -52,27 +52,6 @@ std::string subdetectorName(const Detector& detector, std::uint16_t index) {
              : std::to_string(index);
 }
 
-/// What is wrong with a list of subdetector indices (a step's
-/// collections, seed_collections, inward_collections): an index the
-/// detector does not have, or one listed twice.
-std::optional<std::string> subdetectorListProblem(
-    const std::vector<std::uint16_t>& list, const Detector& detector) {
-  const std::size_t nSub = detector.subdetectors().size();
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    if (list[i] >= nSub) {
-      return "subdetector index " + std::to_string(list[i]) +
-             " is not one of the " + std::to_string(nSub) +
-             " subdetectors of detector '" + detector.name() + "'";
-    }
-    if (std::find(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(i),
-                  list[i]) != list.begin() + static_cast<std::ptrdiff_t>(i)) {
-      return "subdetector " + subdetectorName(detector, list[i]) +
-             " listed twice";
-    }
-  }
-  return std::nullopt;
-}
-
 std::optional<ChainProblem> findStepProblem(const FindingStep& s,
                                             std::size_t index,
                                             const Detector& detector) {
@@ -196,6 +175,24 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
 
 }  // namespace
 
+std::optional<std::string> subdetectorListProblem(
+    const std::vector<std::uint16_t>& list, const Detector& detector) {
+  const std::size_t nSub = detector.subdetectors().size();
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    if (list[i] >= nSub) {
+      return "subdetector index " + std::to_string(list[i]) +
+             " is not one of the " + std::to_string(nSub) +
+             " subdetectors of detector '" + detector.name() + "'";
+    }
+    if (std::find(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(i),
+                  list[i]) != list.begin() + static_cast<std::ptrdiff_t>(i)) {
+      return "subdetector " + subdetectorName(detector, list[i]) +
+             " listed twice";
+    }
+  }
+  return std::nullopt;
+}
+
 std::string ChainProblem::describe() const {
   std::string name = step ? "step[" + std::to_string(*step) + "]." + key : key;
   return "key '" + name + "': " + what;
@@ -279,6 +276,12 @@ std::optional<ChainProblem> findChainProblem(const FinderConfig& c,
     return ChainProblem{std::nullopt, "finder.shared_hits_each_step",
                         "needs final_min_unique_hits (the resolution's "
                         "rule)"};
+  }
+  if (c.beamSpotPrepass) {
+    if (auto p = BeamSpotPrepass::findProblem(*c.beamSpotPrepass, detector)) {
+      return ChainProblem{std::nullopt, "beam_spot_prepass." + p->first,
+                          p->second};
+    }
   }
   if (c.vertexPrepass) {
     if (auto p = VertexZPrepass::findProblem(*c.vertexPrepass, detector)) {

@@ -83,14 +83,30 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
                                          const Pass* pass) const {
   const auto tEvent = Clock::now();
   const FinderConfig& chain = m_config.chain;
+  FindingResult result;
+  // The beam line of the conformal map: the first pass's in a later pass,
+  // else the event's own where the pre-pass measures it, else the chain's.
+  Vector2 beamSpot(chain.beamSpotX, chain.beamSpotY);
+  if (pass != nullptr) {
+    beamSpot = pass->beamSpot;
+  } else if (chain.beamSpotPrepass) {
+    const BeamSpotPrepass prepass(*m_detector, *chain.beamSpotPrepass);
+    const BeamSpotPrepass::Result measured = prepass.run(hits, beamSpot);
+    beamSpot = measured.position;
+    StepStats stats;
+    stats.name = "BeamSpot";
+    stats.seeds = measured.triplets;
+    stats.candidates = measured.inliers;
+    stats.milliseconds = measured.milliseconds;
+    result.steps.push_back(std::move(stats));
+  }
+  result.beamSpot = beamSpot;
   ConformalHits conformal =
-      makeConformalHits(hits, *m_detector, m_bending.get(),
-                        Vector2(chain.beamSpotX, chain.beamSpotY));
+      makeConformalHits(hits, *m_detector, m_bending.get(), beamSpot);
   double bz = chain.legacyFourTesla ? 4.0 * units::T : m_detector->bz();
   detail::FinderState state(conformal, *m_detector, chain, bz);
   state.bending = m_bending.get();
 
-  FindingResult result;
   if (pass != nullptr) {
     for (ConfIndex h = 0; h < conformal.size(); ++h) {
       if (pass->taken[conformal.original[h]] != 0) {

@@ -164,6 +164,26 @@ VertexZPrepass::Config readVertexPrepass(const ConfigTable& t,
   return c;
 }
 
+BeamSpotPrepass::Config readBeamSpotPrepass(const ConfigTable& t,
+                                            const Detector& detector) {
+  using units::mm;
+  using units::rad;
+  BeamSpotPrepass::Config c;
+  c.collections = subdetectors(t, "collections", detector);
+  c.minLayerGap = quantity(t, "min_layer_gap_mm", mm, c.minLayerGap);
+  c.maxDeltaPhi = quantity(t, "max_dphi", rad, c.maxDeltaPhi);
+  c.confirmPhi = quantity(t, "confirm_dphi", rad, c.confirmPhi);
+  c.confirmZ = quantity(t, "confirm_dz_mm", mm, c.confirmZ);
+  c.maxAbsZ = quantity(t, "max_z_mm", mm, c.maxAbsZ);
+  c.minPt = quantity(t, "min_pt_GeV", units::GeV, c.minPt);
+  c.maxD0 = quantity(t, "max_d0_mm", mm, c.maxD0);
+  c.maxSeedHits = count(t, "max_seed_hits", c.maxSeedHits);
+  c.minTriplets = count(t, "min_triplets", c.minTriplets);
+  c.minScale = quantity(t, "min_scale_mm", mm, c.minScale);
+  t.rejectUnknownKeys();
+  return c;
+}
+
 }  // namespace
 
 FinderConfig parseChain(std::string_view text, const std::string& sourceName,
@@ -246,6 +266,10 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
   if (prepass) {
     cfg.vertexPrepass = readVertexPrepass(*prepass, detector);
   }
+  std::optional<ConfigTable> beamPrepass = root.findTable("beam_spot_prepass");
+  if (beamPrepass) {
+    cfg.beamSpotPrepass = readBeamSpotPrepass(*beamPrepass, detector);
+  }
   // [selection], [split_merging] and [second_pass] belong to the track
   // selection, the merging after the fit and the pass after the selection
   // of the same file (readReconstructionConfig); the finder has no use for
@@ -270,6 +294,10 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
     constexpr std::string_view kPrepass = "vertex_prepass.";
     if (p->key.starts_with(kPrepass) && prepass) {
       prepass->fail(p->key.substr(kPrepass.size()), p->what);
+    }
+    constexpr std::string_view kBeamPrepass = "beam_spot_prepass.";
+    if (p->key.starts_with(kBeamPrepass) && beamPrepass) {
+      beamPrepass->fail(p->key.substr(kBeamPrepass.size()), p->what);
     }
     root.fail(p->key, p->what);
   }

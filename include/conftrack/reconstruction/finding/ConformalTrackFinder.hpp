@@ -45,6 +45,10 @@ struct FindingResult {
   /// [mm], ascending; empty without a pre-pass or where it found none),
   /// about which the steps with vertex_window_mm seed (algorithm.md 3.16).
   std::vector<std::pair<double, double>> vertexRegions;
+  /// The beam line about which the hits were mapped [mm]: the beam-line
+  /// pre-pass's where it measured one, else the chain's (algorithm.md
+  /// 3.24).
+  Vector2 beamSpot = Vector2::Zero();
   double milliseconds = 0.0;
 };
 
@@ -72,6 +76,9 @@ class ConformalTrackFinder {
     /// The event's vertex regions (FindingResult::vertexRegions of the
     /// first pass), in place of the pre-pass.
     std::span<const std::pair<double, double>> vertexRegions;
+    /// The event's beam line (FindingResult::beamSpot of the first pass),
+    /// in place of the beam-line pre-pass and the chain's.
+    Vector2 beamSpot = Vector2::Zero();
   };
 
   /// Finds tracks among `hits`. The result does not depend on the order of

@@ -7,6 +7,7 @@
 
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
+#include "conftrack/reconstruction/finding/BeamSpotPrepass.hpp"
 #include "conftrack/reconstruction/finding/VertexZPrepass.hpp"
 
 #include <algorithm>
@@ -206,6 +207,13 @@ inline double FindingStep::chi2CutAt(double pt) const {
   return scaledChi2Cut(chi2Cut, chi2PtScale, pt);
 }
 
+/// What is wrong with a list of subdetector indices (a step's
+/// collections, seed_collections, inward_collections, a pre-pass's
+/// collections): an index the detector does not have, or one listed
+/// twice; nothing if valid.
+std::optional<std::string> subdetectorListProblem(
+    const std::vector<std::uint16_t>& list, const Detector& detector);
+
 /// Largest distance of the beam line from the detector axis, per
 /// coordinate (FinderConfig::beamSpotX, beamSpotY): well inside the
 /// innermost layers of any tracker (CLICdet 31 mm, TrackML 32 mm), whose
@@ -367,6 +375,7 @@ struct FinderConfig {
   /// conformal map is taken about it (makeConformalHits), since a prompt
   /// track is a straight line in the conformal plane only if its circle
   /// passes through the map's origin. Within 10 mm of the detector axis.
+  /// With beamSpotPrepass, the event's own beam line where it is measured.
   /// A conftrack addition: with the map about the axis, CLICdet tt̄
   /// events whose beams collide 0.5 mm off it had a CLICdp duplicate rate
   /// of 15 % instead of 0.7 % (docs/algorithm.md 3.24).
@@ -398,6 +407,12 @@ struct FinderConfig {
   /// (unset: not run, the default). Its vertex regions are the seeds' z
   /// windows of the steps with a finite FindingStep::vertexWindow.
   std::optional<VertexZPrepass::Config> vertexPrepass;
+  /// The beam-line pre-pass, run once per event before the vertex-z
+  /// pre-pass (unset: not run, the default; chain table
+  /// [beam_spot_prepass]). Where it measures the beam line, the conformal
+  /// map is taken about it instead of beamSpotX, beamSpotY, which remain
+  /// its start and fallback (algorithm.md 3.24).
+  std::optional<BeamSpotPrepass::Config> beamSpotPrepass;
   /// After the final hole filling, join tracks that are pieces of one
   /// particle: compatible circles and s-z lines, no two hits on one sensor
   /// or far apart on one layer, a merged fit passing the pieces' chi2 cuts
