@@ -388,8 +388,8 @@ BeamSpotPrepass::Result BeamSpotPrepass::run(std::span<const Hit> hits,
   }
   // Then least squares of |b - c_i| - rho_i = 0 (Gauss-Newton) over the
   // circles within a window about b: at first five fine cells, then three
-  // robust standard deviations (1.4826 median absolute deviations, at
-  // least minScale) of the residuals inside it, never wider.
+  // robust standard deviations (1.4826 times their median absolute
+  // residual, at least minScale) of the residuals inside it, never wider.
   double window = 5.0 * kFineCell;
   std::size_t inliers = 0;
   Matrix2 normal = Matrix2::Zero();
