@@ -175,5 +175,34 @@ TEST(BeamSpotPrepass, FinderMapsAboutTheMeasuredLine) {
   EXPECT_GT(double(nAxis), 1.02 * double(nGiven));  // premise: pieces
 }
 
+TEST(BeamSpotPrepass, LaterPassKeepsTheFirstPassLine) {
+  // A later pass (Reconstruction's second pass) maps about the line it is
+  // given, without measuring again; given none, about the chain's.
+  const Detector det = loadDetector("clicdet");
+  FinderConfig chain = readChain(resolveChainPath("clicdet"), det);
+  chain.beamSpotX = 0.5 * units::mm;
+  chain.beamSpotPrepass = vertexBarrel(det);
+  const ConformalTrackFinder finder(det, {chain});
+  EventSimulation sim(det, offAxisTtbar(0.3, 0.2, 0));
+  const Event ev = sim.simulate(1);
+  const std::vector<std::uint8_t> taken(ev.hits.size(), 0);
+  const std::vector<std::uint16_t> steps{0};
+  ConformalTrackFinder::Pass pass{steps, taken, {}, Vector2(0.3, 0.2)};
+  const FindingResult given = finder.run(ev.hits, pass);
+  EXPECT_EQ(given.beamSpot, Vector2(0.3, 0.2));
+  pass.beamSpot.reset();
+  const FindingResult chains = finder.run(ev.hits, pass);
+  EXPECT_EQ(chains.beamSpot, Vector2(0.5, 0.0));
+  for (const FindingResult* r : {&given, &chains}) {
+    for (const StepStats& s : r->steps) {
+      EXPECT_NE(s.name, "BeamSpot");
+    }
+  }
+  // The first pass measures it.
+  const FindingResult first = finder.run(ev.hits);
+  EXPECT_NEAR(first.beamSpot.x(), 0.3, 0.06);
+  EXPECT_NEAR(first.beamSpot.y(), 0.2, 0.06);
+}
+
 }  // namespace
 }  // namespace conftrack

@@ -88,7 +88,7 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
   // else the event's own where the pre-pass measures it, else the chain's.
   Vector2 beamSpot(chain.beamSpotX, chain.beamSpotY);
   if (pass != nullptr) {
-    beamSpot = pass->beamSpot;
+    beamSpot = pass->beamSpot.value_or(beamSpot);
   } else if (chain.beamSpotPrepass) {
     const BeamSpotPrepass prepass(*m_detector, *chain.beamSpotPrepass);
     const BeamSpotPrepass::Result measured = prepass.run(hits, beamSpot);

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -77,8 +78,9 @@ class ConformalTrackFinder {
     /// first pass), in place of the pre-pass.
     std::span<const std::pair<double, double>> vertexRegions;
     /// The event's beam line (FindingResult::beamSpot of the first pass),
-    /// in place of the beam-line pre-pass and the chain's.
-    Vector2 beamSpot = Vector2::Zero();
+    /// in place of the beam-line pre-pass; unset: the chain's
+    /// (FinderConfig::beamSpotX, beamSpotY).
+    std::optional<Vector2> beamSpot;
   };
 
   /// Finds tracks among `hits`. The result does not depend on the order of
