@@ -173,11 +173,13 @@ Vector2 votedPoint(const std::vector<Circle>& circles, const Vector2& start,
       // The branch on the start's side of the centre.
       const double other =
           (alongX ? c.cy : c.cx) + std::copysign(std::sqrt(h2), side);
-      const int m =
-          static_cast<int>(std::floor((other - (alongX ? y0 : x0)) / cell));
-      if (m < 0 || m >= n) {
+      // Checked as a double: a circle far from the grid would overflow the
+      // conversion to int.
+      const double row = std::floor((other - (alongX ? y0 : x0)) / cell);
+      if (!(row >= 0.0 && row < double(n))) {
         continue;
       }
+      const auto m = static_cast<int>(row);
       const std::size_t at = alongX ? static_cast<std::size_t>(m) * n + k
                                     : static_cast<std::size_t>(k) * n + m;
       sectors[at] |= bit;
