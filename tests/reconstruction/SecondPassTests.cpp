@@ -83,16 +83,18 @@ TEST(SecondPass, ChainFileTable) {
   const ConformalTrackFinder finder(det, {c.chain});
   const std::vector<Hit> hits(3);
   const std::vector<std::uint8_t> taken(2, 0);
-  EXPECT_THROW(finder.run(hits, {c.secondPassSteps, taken, {}}),
+  EXPECT_THROW(finder.run(hits, {c.secondPassSteps, taken, {}, {}}),
                std::invalid_argument);
   // ... and steps that are not ascending indices of the chain's.
   const std::vector<std::uint8_t> none(3, 0);
   const std::vector<std::uint16_t> repeated = {0, 0};
   const std::vector<std::uint16_t> outside = {0, 5};
-  EXPECT_THROW(finder.run(hits, {repeated, none, {}}), std::invalid_argument);
-  EXPECT_THROW(finder.run(hits, {outside, none, {}}), std::invalid_argument);
+  EXPECT_THROW(finder.run(hits, {repeated, none, {}, {}}),
+               std::invalid_argument);
+  EXPECT_THROW(finder.run(hits, {outside, none, {}, {}}),
+               std::invalid_argument);
   const FindingResult empty =
-      finder.run(std::span<const Hit>(), {c.secondPassSteps, {}, {}});
+      finder.run(std::span<const Hit>(), {c.secondPassSteps, {}, {}, {}});
   EXPECT_TRUE(empty.tracks.empty());
 }
 

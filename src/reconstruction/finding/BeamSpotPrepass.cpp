@@ -7,6 +7,8 @@
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/reconstruction/finding/FindingChain.hpp"
+#include "conftrack/reconstruction/finding/detail/PhiWindow.hpp"
+#include "conftrack/reconstruction/finding/detail/PrepassLayers.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -37,44 +39,42 @@ constexpr double kSettled = 1e-3;
 /// circles of one jet measure one direction only.
 constexpr double kMinWeakWeight = 1.0;
 
-/// Azimuth difference wrapped into (-pi, pi].
-double wrap(double d) {
-  while (d > kPi) {
-    d -= 2.0 * kPi;
-  }
-  while (d <= -kPi) {
-    d += 2.0 * kPi;
-  }
-  return d;
-}
-
 /// The hits of one layer in (azimuth, id) order.
 struct LayerHits {
   std::vector<double> phi, r, x, y, z;
 };
 
-LayerHits layerHits(std::span<const Hit> hits, const Detector& detector,
-                    std::uint32_t layer) {
-  std::vector<std::pair<double, std::size_t>> order;
+/// The hits of each of `layers` (one pass over the event), each in
+/// (azimuth, id) order.
+std::vector<LayerHits> layerHits(std::span<const Hit> hits,
+                                 const Detector& detector,
+                                 const std::vector<std::uint32_t>& layers) {
+  std::vector<std::vector<std::pair<double, std::size_t>>> order(layers.size());
   for (std::size_t i = 0; i < hits.size(); ++i) {
     const std::optional<std::uint32_t> l = detector.findLayer(hits[i].detId);
-    if (l && *l == layer) {
+    const auto it =
+        l ? std::find(layers.begin(), layers.end(), *l) : layers.end();
+    if (it != layers.end()) {
       const Vector3& p = hits[i].position;
-      order.emplace_back(std::atan2(p.y(), p.x()), i);
+      order[static_cast<std::size_t>(it - layers.begin())].emplace_back(
+          std::atan2(p.y(), p.x()), i);
     }
   }
-  std::sort(order.begin(), order.end(), [&](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first < b.first
-                              : hits[a.second].id < hits[b.second].id;
-  });
-  LayerHits out;
-  for (const auto& [phi, i] : order) {
-    const Vector3& p = hits[i].position;
-    out.phi.push_back(phi);
-    out.r.push_back(std::hypot(p.x(), p.y()));
-    out.x.push_back(p.x());
-    out.y.push_back(p.y());
-    out.z.push_back(p.z());
+  std::vector<LayerHits> out(layers.size());
+  for (std::size_t k = 0; k < layers.size(); ++k) {
+    std::sort(
+        order[k].begin(), order[k].end(), [&](const auto& a, const auto& b) {
+          return a.first != b.first ? a.first < b.first
+                                    : hits[a.second].id < hits[b.second].id;
+        });
+    for (const auto& [phi, i] : order[k]) {
+      const Vector3& p = hits[i].position;
+      out[k].phi.push_back(phi);
+      out[k].r.push_back(std::hypot(p.x(), p.y()));
+      out[k].x.push_back(p.x());
+      out[k].y.push_back(p.y());
+      out[k].z.push_back(p.z());
+    }
   }
   return out;
 }
@@ -83,21 +83,12 @@ LayerHits layerHits(std::span<const Hit> hits, const Detector& detector,
 template <typename F>
 void forEachInWindow(const LayerHits& l, double phi, double half, F&& f) {
   const std::vector<double>& p = l.phi;
-  auto range = [&](double lo, double hi) {
+  detail::forEachPhiInterval(phi, half, [&](double lo, double hi) {
     auto it = std::lower_bound(p.begin(), p.end(), lo);
     for (; it != p.end() && *it <= hi; ++it) {
       f(static_cast<std::size_t>(it - p.begin()));
     }
-  };
-  const double lo = phi - half;
-  const double hi = phi + half;
-  range(std::max(lo, -kPi), std::min(hi, kPi));
-  if (lo < -kPi) {
-    range(lo + 2.0 * kPi, kPi);
-  }
-  if (hi > kPi) {
-    range(-kPi, hi - 2.0 * kPi);
-  }
+  });
 }
 
 /// A circle of the fit: centre and radius [mm].
@@ -220,29 +211,6 @@ double residual(const Circle& c, const Vector2& b) {
   return std::hypot(b.x() - c.cx, b.y() - c.cy) - c.rho;
 }
 
-/// The barrel layers of `collections` by radius (ties by index).
-std::vector<std::uint32_t> barrelLayers(
-    const Detector& detector, const std::vector<std::uint16_t>& collections) {
-  std::vector<std::uint32_t> layers;
-  for (std::uint16_t s : collections) {
-    if (s >= detector.subdetectors().size()) {
-      continue;
-    }
-    for (std::uint32_t l : detector.subdetectors()[s].layers) {
-      if (!detector.layers()[l].isDisk()) {
-        layers.push_back(l);
-      }
-    }
-  }
-  std::sort(layers.begin(), layers.end(),
-            [&](std::uint32_t a, std::uint32_t b) {
-              const double ra = detector.layers()[a].r;
-              const double rb = detector.layers()[b].r;
-              return ra != rb ? ra < rb : a < b;
-            });
-  return layers;
-}
-
 /// The innermost layer, then each first one at least `gap` further out;
 /// fewer than three if the layers do not allow it.
 std::vector<std::uint32_t> spacedLayers(const Detector& detector,
@@ -301,7 +269,8 @@ std::optional<std::pair<std::string, std::string>> BeamSpotPrepass::findProblem(
     return std::make_pair(std::string("collections"), *what);
   }
   const std::vector<std::uint32_t> spaced = spacedLayers(
-      detector, barrelLayers(detector, c.collections), c.minLayerGap);
+      detector, detail::barrelLayersByRadius(detector, c.collections),
+      c.minLayerGap);
   if (spaced.size() < 3) {
     return std::make_pair(std::string("collections"),
                           "need three barrel layers at least "
@@ -317,18 +286,20 @@ BeamSpotPrepass::BeamSpotPrepass(const Detector& detector, Config config)
     throw std::invalid_argument("BeamSpotPrepass: key '" + p->first +
                                 "': " + p->second);
   }
-  m_layers =
-      spacedLayers(detector, barrelLayers(detector, m_config.collections),
-                   m_config.minLayerGap);
+  m_layers = spacedLayers(
+      detector, detail::barrelLayersByRadius(detector, m_config.collections),
+      m_config.minLayerGap);
 }
 
 BeamSpotPrepass::Result BeamSpotPrepass::run(std::span<const Hit> hits,
                                              const Vector2& start) const {
   const auto t0 = std::chrono::steady_clock::now();
   const Config& c = m_config;
-  const LayerHits l0 = layerHits(hits, *m_detector, m_layers[0]);
-  const LayerHits l1 = layerHits(hits, *m_detector, m_layers[1]);
-  const LayerHits l2 = layerHits(hits, *m_detector, m_layers[2]);
+  const std::vector<LayerHits> onLayers =
+      layerHits(hits, *m_detector, m_layers);
+  const LayerHits& l0 = onLayers[0];
+  const LayerHits& l1 = onLayers[1];
+  const LayerHits& l2 = onLayers[2];
   const double r0 = m_detector->layers()[m_layers[0]].r;
   const double r1 = m_detector->layers()[m_layers[1]].r;
   const double r2 = m_detector->layers()[m_layers[2]].r;
@@ -361,8 +332,9 @@ BeamSpotPrepass::Result BeamSpotPrepass::run(std::span<const Hit> hits,
       if (std::abs(z0) > c.maxAbsZ) {
         return;
       }
-      const double dphi = wrap(l1.phi[b] - l0.phi[a]);
-      const double predicted = wrap(l1.phi[b] + dphi * (r2 - l1.r[b]) / dr);
+      const double dphi = detail::wrapAzimuth(l1.phi[b] - l0.phi[a]);
+      const double predicted =
+          detail::wrapAzimuth(l1.phi[b] + dphi * (r2 - l1.r[b]) / dr);
       forEachInWindow(l2, predicted, confirmWindow, [&](std::size_t k) {
         if (std::abs(l2.z[k] - (z0 + slope * l2.r[k])) > c.confirmZ) {
           return;

@@ -43,6 +43,9 @@ ConformalTrackFinder::ConformalTrackFinder(const Detector& detector,
     throw std::invalid_argument("ConformalTrackFinder: invalid chain: " +
                                 p->describe());
   }
+  if (m_config.chain.beamSpotPrepass) {
+    m_beamSpotPrepass.emplace(detector, *m_config.chain.beamSpotPrepass);
+  }
   if (m_config.chain.fieldCorrection && !detector.field().isUniform()) {
     m_bending = std::make_shared<const PromptBending>(
         detector.field(), detector.envelopeR(), detector.envelopeZ());
@@ -89,9 +92,9 @@ FindingResult ConformalTrackFinder::find(std::span<const Hit> hits,
   Vector2 beamSpot(chain.beamSpotX, chain.beamSpotY);
   if (pass != nullptr) {
     beamSpot = pass->beamSpot.value_or(beamSpot);
-  } else if (chain.beamSpotPrepass) {
-    const BeamSpotPrepass prepass(*m_detector, *chain.beamSpotPrepass);
-    const BeamSpotPrepass::Result measured = prepass.run(hits, beamSpot);
+  } else if (m_beamSpotPrepass) {
+    const BeamSpotPrepass::Result measured =
+        m_beamSpotPrepass->run(hits, beamSpot);
     beamSpot = measured.position;
     StepStats stats;
     stats.name = "BeamSpot";

@@ -6,6 +6,7 @@
 
 #include "conftrack/core/ConfigTable.hpp"
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
+#include "conftrack/reconstruction/finding/detail/PrepassLayers.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -52,16 +53,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-/// Azimuth difference wrapped into (-pi, pi].
-double wrap(double d) {
-  while (d > kPi) {
-    d -= 2.0 * kPi;
-  }
-  while (d <= -kPi) {
-    d += 2.0 * kPi;
-  }
-  return d;
-}
+using detail::wrapAzimuth;
 
 /// The hits of one layer, sorted by azimuth.
 struct LayerHits {
@@ -94,7 +86,7 @@ LayerHits layerHits(const ConformalHits& hits, std::uint32_t layer,
 /// azimuth order (the window may wrap at +-pi); stops when f returns true.
 template <typename F>
 void forEachInPhi(const LayerHits& l, double centre, double half, F&& f) {
-  const double c = wrap(centre);
+  const double c = wrapAzimuth(centre);
   auto range = [&](double lo, double hi) {
     auto it = std::lower_bound(l.phi.begin(), l.phi.end(), lo);
     for (; it != l.phi.end() && *it <= hi; ++it) {
@@ -158,7 +150,7 @@ class ConfirmGrid {
   template <typename F>
   void search(double phi, double halfPhi, double z, double halfZ, F&& f) const {
     const auto span = static_cast<std::ptrdiff_t>(halfPhi / m_phiCell) + 1;
-    const auto centre = static_cast<std::ptrdiff_t>(phiIndex(wrap(phi)));
+    const auto centre = static_cast<std::ptrdiff_t>(phiIndex(wrapAzimuth(phi)));
     const auto n = static_cast<std::ptrdiff_t>(m_nPhi);
     const std::size_t z0 = zIndex(z - halfZ);
     const std::size_t z1 = zIndex(z + halfZ);
@@ -257,19 +249,7 @@ VertexZPrepass::VertexZPrepass(const Detector& detector, Config config)
     throw std::invalid_argument("VertexZPrepass: key '" + p->first +
                                 "': " + p->second);
   }
-  for (std::uint16_t s : m_config.collections) {
-    for (std::uint32_t l : detector.subdetectors()[s].layers) {
-      if (!detector.layers()[l].isDisk()) {
-        m_layers.push_back(l);
-      }
-    }
-  }
-  std::sort(m_layers.begin(), m_layers.end(),
-            [&](std::uint32_t a, std::uint32_t b) {
-              const double ra = detector.layers()[a].r;
-              const double rb = detector.layers()[b].r;
-              return ra != rb ? ra < rb : a < b;
-            });
+  m_layers = detail::barrelLayersByRadius(detector, m_config.collections);
   m_layers.resize(3);
 }
 
@@ -314,7 +294,7 @@ VertexZPrepass::Result VertexZPrepass::run(
         }
         // Azimuth of a circle through the origin grows about linearly
         // with R: phi(R) = phi_b + dphi (R - R_b) / dR.
-        const double dphi = wrap(l1.phi[b] - shift - pa);
+        const double dphi = wrapAzimuth(l1.phi[b] - shift - pa);
         const double rate = dphi / dr;
         bool confirmed = false;
         grid.search(
@@ -322,7 +302,7 @@ VertexZPrepass::Result VertexZPrepass::run(
             c.confirmPhi + std::abs(rate) * r2Spread, za + slope * (r2 - ra),
             c.confirmZ + std::abs(slope) * r2Spread, [&](std::size_t k) {
               const double pred = l1.phi[b] + rate * (l2.r[k] - l1.r[b]);
-              if (std::abs(wrap(l2.phi[k] - pred)) <= c.confirmPhi &&
+              if (std::abs(wrapAzimuth(l2.phi[k] - pred)) <= c.confirmPhi &&
                   std::abs(l2.z[k] - (za + slope * (l2.r[k] - ra))) <=
                       c.confirmZ) {
                 confirmed = true;

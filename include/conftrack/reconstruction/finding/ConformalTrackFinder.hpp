@@ -103,6 +103,9 @@ class ConformalTrackFinder {
   /// The field's bending factors (FinderConfig::fieldCorrection); null in
   /// a uniform field or without the correction. Shared by copies.
   std::shared_ptr<const PromptBending> m_bending;
+  /// The beam-line pre-pass of the chain (FinderConfig::beamSpotPrepass),
+  /// set up once.
+  std::optional<BeamSpotPrepass> m_beamSpotPrepass;
 };
 
 }  // namespace conftrack
