@@ -20,10 +20,11 @@ class Result:
     """The reconstruction of one event.
 
     tracks: one row per track: track_id (1, 2, ...; the ids of hit_tracks),
-      the perigee parameters at the IP d0 [mm], phi0 [rad], omega [1/mm],
-      z0 [mm], tan_lambda, pt [GeV], chi2, ndf, n_hits, n_outliers, fitted,
-      step (the finding step), pt_estimate [GeV] and the 15 covariance
-      elements cov_<row>_<column> of the track files;
+      the perigee parameters d0 [mm], phi0 [rad], omega [1/mm], z0 [mm],
+      tan_lambda, pt [GeV], chi2, ndf, n_hits, n_outliers, fitted, step
+      (the finding step), pt_estimate [GeV], the perigee's reference
+      ref_x, ref_y [mm] (the beam line d0 and z0 are measured from) and
+      the 15 covariance elements cov_<row>_<column> of the track files;
     covariance: the covariance matrices, shape (n_tracks, 5, 5);
     hit_tracks: hit_id, track_id for every hit (0: on no track), a TrackML
       submission;

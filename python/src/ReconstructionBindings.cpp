@@ -142,6 +142,11 @@ py::dict trackColumns(const ResultHandle& r) {
       column<std::int64_t>(n, [&](auto i) { return tracks[i].findingStep; });
   c["pt_estimate"] = column<double>(
       n, [&](auto i) { return tracks[i].ptEstimate / units::GeV; });
+  // The perigee's reference: the beam line the fit took it about.
+  c["ref_x"] = column<double>(
+      n, [&](auto i) { return tracks[i].atIp.reference.x() / units::mm; });
+  c["ref_y"] = column<double>(
+      n, [&](auto i) { return tracks[i].atIp.reference.y() / units::mm; });
   return c;
 }
 

@@ -10,7 +10,8 @@ import pytest
 import conftrack
 
 PARAMETERS = ["d0", "phi0", "omega", "z0", "tan_lambda", "chi2", "ndf",
-              "n_hits", "n_outliers", "step", "pt_estimate"]
+              "n_hits", "n_outliers", "step", "pt_estimate", "ref_x",
+              "ref_y"]
 
 
 def compare(cli, events_dir, number, detector, tmp_path):

@@ -107,6 +107,16 @@ def test_beam_spot_off_the_axis():
     rate_axis = conftrack.evaluate(events, about_axis)["duplicate_rate"]
     assert rate < 0.02
     assert rate_axis > 0.05
+    # The perigees are taken about the beam line: a prompt track's d0 is
+    # its distance from the luminous region (median |d0| of the fitted
+    # tracks: 0.02 mm about the beams against 0.6 mm about the axis).
+    tracks = about_beams[0].tracks
+    fitted = tracks[tracks.fitted]
+    assert (fitted.ref_x == 0.7).all() and (fitted.ref_y == -0.5).all()
+    assert fitted.d0.abs().median() < 0.05
+    axis_tracks = about_axis[0].tracks
+    assert (axis_tracks.ref_x == 0.0).all()
+    assert axis_tracks[axis_tracks.fitted].d0.abs().median() > 0.3
     with pytest.raises(ValueError, match="^beam_spot: must be finite and "
                        "within 10 mm"):
         conftrack.reconstruct(events[0], beam_spot=(11.0, 0.0))

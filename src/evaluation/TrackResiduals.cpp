@@ -62,9 +62,10 @@ TrackKinematics trackKinematics(const Track& track, const Event& event,
   return k;
 }
 
-TrackVector trueTrackParameters(const Particle& particle, double bz) {
+TrackVector trueTrackParameters(const Particle& particle, double bz,
+                                const Vector3& reference) {
   return helixParametersAt(particle.vertex, particle.momentum, particle.charge,
-                           bz, Vector3::Zero());
+                           bz, reference);
 }
 
 std::string_view residualName(ResidualQuantity quantity) {
@@ -143,7 +144,9 @@ std::string_view pullName(PullQuantity quantity) {
 
 TrackResidual computeTrackResidual(const Track& track, const Particle& particle,
                                    double bz) {
-  const TrackVector truth = trueTrackParameters(particle, bz);
+  // Both about the line the track's perigee was taken about.
+  const TrackVector truth =
+      trueTrackParameters(particle, bz, track.atIp.reference);
   const TrackVector& reco = track.atIp.parameters;
   const TrackCovariance& cov = track.atIp.covariance;
 

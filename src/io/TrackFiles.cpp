@@ -38,8 +38,9 @@ std::vector<std::string_view> trackColumns() {
   std::vector<std::string_view> columns = {c::kTrackId, c::kD0, c::kPhi0,
                                            c::kOmega,   c::kZ0, c::kTanLambda};
   columns.insert(columns.end(), c::kCovariance.begin(), c::kCovariance.end());
-  columns.insert(columns.end(), {c::kChi2, c::kNdf, c::kNHits, c::kNOutliers,
-                                 c::kStep, c::kPtEstimate, c::kFitted});
+  columns.insert(columns.end(),
+                 {c::kChi2, c::kNdf, c::kNHits, c::kNOutliers, c::kStep,
+                  c::kPtEstimate, c::kFitted, c::kRefX, c::kRefY});
   return columns;
 }
 
@@ -130,6 +131,8 @@ void writeTrackTable(const std::filesystem::path& file,
     csv.add(t.findingStep);
     csv.add(t.ptEstimate / units::GeV);
     csv.add(t.fitted ? 1 : 0);
+    csv.add(t.atIp.reference.x() / units::mm);
+    csv.add(t.atIp.reference.y() / units::mm);
     csv.endRow();
   }
   csv.write(file, hasGzipExtension(file), gzipLevel);
@@ -211,7 +214,18 @@ std::vector<Track> parseTrackFiles(std::string tracksText,
     CsvReader csv(std::move(tracksText), tracksSource);
     std::vector<std::size_t> col;
     for (std::string_view name : trackColumns()) {
+      if (name == c::kRefX || name == c::kRefY) {
+        continue;  // optional, below
+      }
       col.push_back(csv.requireColumn(name));
+    }
+    // The perigee's reference: absent in files written before it (the
+    // origin then); one without the other is an error.
+    const auto cRefX = csv.findColumn(c::kRefX);
+    const auto cRefY = csv.findColumn(c::kRefY);
+    if (cRefX.has_value() != cRefY.has_value()) {
+      csv.fail("column '" + std::string(cRefX ? c::kRefX : c::kRefY) +
+               "' without '" + std::string(cRefX ? c::kRefY : c::kRefX) + "'");
     }
     const std::size_t cId = col[0];
     const std::size_t cCov = 6;
@@ -257,6 +271,10 @@ std::vector<Track> parseTrackFiles(std::string tracksText,
         csv.failField(col[cRest + 5], "is negative");
       }
       t.fitted = flag(csv, col[cRest + 6]);
+      if (cRefX) {
+        t.atIp.reference = Vector3(csv.getDouble(*cRefX) * units::mm,
+                                   csv.getDouble(*cRefY) * units::mm, 0.0);
+      }
       // Unfitted tracks carry zeros; a fitted one in a magnetic field is
       // curved. Omega = 0 would be a straight track of infinite pT, which
       // the evaluation cannot place in any pT bin.

@@ -16,8 +16,8 @@ TrackSelector::Config selectorConfig(const Reconstruction::Config& c) {
 }
 }  // namespace
 
-FitInput fitInput(const FoundTrack& found) {
-  return {found.hits, found.fitBackward};
+FitInput fitInput(const FoundTrack& found, const Vector2& beamLine) {
+  return {found.hits, found.fitBackward, beamLine};
 }
 
 Track withFit(const FoundTrack& found, Track fitted) {
@@ -82,7 +82,9 @@ void Reconstruction::fitAndSelect(std::span<const Hit> hits,
     std::vector<FitInput> inputs;
     inputs.reserve(found.size());
     for (const FoundTrack& f : found) {
-      inputs.push_back(fitInput(f));
+      // The perigee about the line the finder mapped about: d0 of a
+      // prompt track is then its distance from the luminous region.
+      inputs.push_back(fitInput(f, r.beamSpot));
     }
     FittingResult fitted = m_fitter.run(hits, inputs);
     r.fittingMs += fitted.milliseconds;

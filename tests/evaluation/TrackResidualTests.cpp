@@ -109,6 +109,33 @@ TEST(TrackResiduals, ResidualsAndPullsOfAKnownOffset) {
   EXPECT_NEAR(r.pulls[ePullTheta], -0.5, 0.01);  // small-offset limit
 }
 
+TEST(TrackResiduals, TruthIsTakenAboutTheTrackReference) {
+  // A particle from a beam line 1 mm off the axis, perpendicular to its
+  // momentum: d0 = 0 about the line, 1 mm about the axis. A track fitted
+  // about the line (reference (1, 0, 0)) is compared with the truth about
+  // the same line, not about the axis.
+  const double pt = 3.0;
+  const Particle p = test::makeParticle(
+      1, Vector3(0.0, pt, 0.5 * pt), 1.0, ParticleOrigin::eSignal,
+      Vector3(1.0 * units::mm, 0.0, 0.2 * units::mm));
+  const Vector3 line(1.0 * units::mm, 0.0, 0.0);
+  const TrackVector aboutLine = trueTrackParameters(p, kBz, line);
+  const TrackVector aboutAxis = trueTrackParameters(p, kBz);
+  EXPECT_NEAR(aboutLine[eD0], 0.0, 1e-12);
+  EXPECT_NEAR(aboutLine[eZ0], 0.2 * units::mm, 1e-12);
+  EXPECT_NEAR(std::abs(aboutAxis[eD0]), 1.0 * units::mm, 1e-9);
+  Track track;
+  track.fitted = true;
+  track.atIp.reference = line;
+  track.atIp.parameters = aboutLine;
+  track.atIp.parameters[eD0] += 3.0 * units::um;
+  track.atIp.covariance.diagonal().setConstant(1e-6);
+  const TrackResidual r = computeTrackResidual(track, p, kBz);
+  EXPECT_NEAR(r.residuals[eResidualD0], 3.0 * units::um, 1e-12);
+  EXPECT_NEAR(r.residuals[eResidualZ0], 0.0, 1e-12);
+  EXPECT_NEAR(r.pulls[ePullD0], 3.0, 1e-9);
+}
+
 TEST(TrackResiduals, MissingVarianceGivesNanPull) {
   const Particle mu = test::makeParticle(1, Vector3(1.0, 0.0, 0.0));
   Track track;

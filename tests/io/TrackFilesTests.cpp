@@ -63,6 +63,10 @@ std::vector<Track> makeTracks() {
     t.findingStep = static_cast<std::uint16_t>(i);
     t.ptEstimate = 0.1 + static_cast<double>(i) / 3.0;
     t.fitted = i != 2;
+    // Perigees about a beam line off the axis (full-precision doubles).
+    if (t.fitted) {
+      t.atIp.reference = Vector3(normal(rng), normal(rng), 0.0);
+    }
     for (HitIndex h = 0; h < 3 + i; ++h) {
       t.hits.push_back(static_cast<HitIndex>(37 - 5 * i - h));
       // Track 1: an outlier; track 2: a looper's further-turn hit last.
@@ -115,7 +119,7 @@ void expectSame(const std::vector<Track>& read,
     const Track& b = written[i];
     EXPECT_EQ(a.atIp.parameters, b.atIp.parameters) << i;
     EXPECT_EQ(a.atIp.covariance, b.atIp.covariance) << i;
-    EXPECT_EQ(a.atIp.reference, Vector3::Zero());
+    EXPECT_EQ(a.atIp.reference, b.atIp.reference) << i;
     EXPECT_EQ(a.chi2, b.chi2);
     EXPECT_EQ(a.ndf, b.ndf);
     EXPECT_EQ(a.hits, b.hits);
@@ -166,7 +170,8 @@ TEST_F(TrackFiles, HeaderAndHitIds) {
               StartsWith("track_id,d0,phi0,omega,z0,tan_lambda,cov_d0_d0,"
                          "cov_phi0_d0,cov_phi0_phi0,cov_omega_d0,"));
   EXPECT_THAT(header, HasSubstr("cov_tan_lambda_tan_lambda,chi2,ndf,n_hits,"
-                                "n_outliers,step,pt_estimate,fitted"));
+                                "n_outliers,step,pt_estimate,fitted,ref_x,"
+                                "ref_y"));
 }
 
 TEST_F(TrackFiles, WriterRejectsBadTracks) {
@@ -219,6 +224,34 @@ TEST_F(TrackFiles, ValidTablesRead) {
   EXPECT_EQ(read[0].hits, (std::vector<HitIndex>{0, 1, 2}));
   EXPECT_DOUBLE_EQ(read[0].atIp.covariance(eTanLambda, eTanLambda), 1e-6);
   EXPECT_DOUBLE_EQ(read[0].atIp.parameters[eOmega], 0.001);
+  // Files without the reference columns (written before them): the
+  // perigee about the origin.
+  EXPECT_EQ(read[0].atIp.reference, Vector3::Zero());
+}
+
+TEST_F(TrackFiles, PerigeeReferenceColumns) {
+  const auto hits = makeHits();
+  std::string header = kHeader;
+  header.insert(header.size() - 1, ",ref_x,ref_y");
+  std::string line = row(5);
+  line.insert(line.size() - 1, ",0.7,-0.5");
+  const fs::path tracks = write("t-tracks.csv", header + line);
+  const fs::path trackHits =
+      write("t-track-hits.csv", kHitsHeader + hitRows(5));
+  const auto read = readTrackFiles(tracks, trackHits, hits);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(read[0].atIp.reference, Vector3(0.7, -0.5, 0.0));
+  // One without the other, and a reference that is not a number.
+  std::string half = kHeader;
+  half.insert(half.size() - 1, ",ref_y");
+  std::string halfRow = row(5);
+  halfRow.insert(halfRow.size() - 1, ",-0.5");
+  EXPECT_THAT(errorOf(half + halfRow, kHitsHeader + hitRows(5), "tracks", 1),
+              HasSubstr("column 'ref_y' without 'ref_x'"));
+  std::string nan = row(5);
+  nan.insert(nan.size() - 1, ",nan,-0.5");
+  EXPECT_THAT(errorOf(header + nan, kHitsHeader + hitRows(5), "tracks", 2),
+              HasSubstr("ref_x"));
 }
 
 TEST_F(TrackFiles, MissingColumn) {

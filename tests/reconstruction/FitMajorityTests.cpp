@@ -84,6 +84,13 @@ TEST(FitMajority, WrongHitsAtThePassStartBecomeTheOutliers) {
   const Track plain = fitter(false).fit(event.hits, input);
   ASSERT_TRUE(plain.fitted);
   EXPECT_GT(plain.numOutliers(), n / 2);
+  // The refit keeps the candidate's beam line (FitInput::beamLine): its
+  // perigee about the same line as the first fit's would have been.
+  const FitInput offAxis{candidate, true, Vector2(0.3, -0.2)};
+  const Track aboutLine = fitter(true).fit(event.hits, offAxis, &info);
+  ASSERT_TRUE(aboutLine.fitted);
+  EXPECT_TRUE(info.majority);
+  EXPECT_EQ(aboutLine.atIp.reference, Vector3(0.3, -0.2, 0.0));
 }
 
 TEST(FitMajority, CleanTracksAreLeftAlone) {

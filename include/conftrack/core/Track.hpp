@@ -60,7 +60,9 @@ struct Track {
   int ndfSz = 0;
   /// Fitting: true once a Kalman fit succeeded.
   bool fitted = false;
-  /// Fitted states: at the IP (reference = origin), first and last hit.
+  /// Fitted states: at the IP (the perigee about the beam line; reference
+  /// = its point at z = 0, the origin unless the beams are off the axis),
+  /// first and last hit.
   TrackState atIp;
   TrackState atFirstHit;
   TrackState atLastHit;

@@ -32,10 +32,13 @@ struct TrackKinematics {
 TrackKinematics trackKinematics(const Track& track, const Event& event,
                                 double bz);
 
-/// The LCIO parameters of a true particle at the origin (physics.md 3
-/// "From a true particle"): the production vertex and momentum moved to the
-/// reference point (0, 0, 0) along the ideal helix.
-TrackVector trueTrackParameters(const Particle& particle, double bz);
+/// The LCIO parameters of a true particle (physics.md 3 "From a true
+/// particle"): the production vertex and momentum moved to the PCA to the
+/// line parallel to z through `reference` along the ideal helix (by
+/// default the origin; a track's residuals use its perigee's reference,
+/// the beam line it was fitted about).
+TrackVector trueTrackParameters(const Particle& particle, double bz,
+                                const Vector3& reference = Vector3::Zero());
 
 /// Quantities whose resolution is measured.
 enum ResidualQuantity : int {

@@ -60,6 +60,11 @@ inline constexpr std::string_view kNOutliers = "n_outliers";
 inline constexpr std::string_view kStep = "step";
 inline constexpr std::string_view kPtEstimate = "pt_estimate";
 inline constexpr std::string_view kFitted = "fitted";
+/// The perigee's reference point, the beam line at z = 0 (TrackState::
+/// reference of Track::atIp): x and y [mm]. Optional when reading (files
+/// written before them: the origin).
+inline constexpr std::string_view kRefX = "ref_x";
+inline constexpr std::string_view kRefY = "ref_y";
 inline constexpr std::string_view kHitId = "hit_id";
 inline constexpr std::string_view kOutlier = "outlier";
 }  // namespace trackfiles

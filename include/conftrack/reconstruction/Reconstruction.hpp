@@ -27,8 +27,10 @@
 namespace conftrack {
 
 /// The fitter's view of a found track: its hits (a view into `found`,
-/// which must outlive it) and its first fit direction.
-FitInput fitInput(const FoundTrack& found);
+/// which must outlive it), its first fit direction and the beam line
+/// [mm] its perigee is taken about (FitInput::beamLine).
+FitInput fitInput(const FoundTrack& found,
+                  const Vector2& beamLine = Vector2::Zero());
 
 /// The finder's track (toTrack) with the results of `fitted`, the fit of
 /// fitInput(found): outlier flags, states, chi2 and ndf.
@@ -103,7 +105,8 @@ class Reconstruction {
 
  private:
   /// Fits, merges and selects the finder's tracks of one pass into `r`
-  /// (tracks appended; counters and times added).
+  /// (tracks appended; counters and times added), their perigees about
+  /// the pass's beam line r.beamSpot.
   void fitAndSelect(std::span<const Hit> hits, std::vector<FoundTrack> found,
                     Result& r) const;
 

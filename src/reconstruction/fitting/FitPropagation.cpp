@@ -393,8 +393,11 @@ FitStatus KalmanFitter::propagateToSurface(Propagation& state, int direction,
 }
 
 FitStatus KalmanFitter::propagateToIp(Propagation& state,
-                                      std::uint32_t fromSurface) const {
-  const Vector3 origin = Vector3::Zero();
+                                      std::uint32_t fromSurface,
+                                      const Vector2& beamLine) const {
+  // The perigee's reference: the beam line at z = 0 (LCIO's reference
+  // point; d0 and z0 are measured from it).
+  const Vector3 origin(beamLine.x(), beamLine.y(), 0.0);
   const auto& surfaces = m_navigator.surfaces();
   TrackVector atOrigin;
   // One bending for the whole way in: that halfway between the innermost
@@ -402,8 +405,8 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
   const HelixState innermost{state.pivot, state.params};
   const double bending =
       bendingAt(0.5 * innermost.pca(), innermost.direction());
-  // Transverse arc from the current PCA to the PCA to the z axis, within
-  // half a turn (physics.md 3).
+  // Transverse arc from the current PCA to the PCA to the beam line,
+  // within half a turn (physics.md 3).
   double s =
       movePivotIn(state.params, state.pivot, origin, 0.0, bending, atOrigin);
   if (!std::isfinite(s)) {

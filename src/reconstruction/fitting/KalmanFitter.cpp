@@ -357,7 +357,8 @@ FitStatus KalmanFitter::fitDirection(
   ip.pivot = nodes[innermost].pivot;
   ip.params = smoothed[innermost];
   ip.cov = smoothedCov[innermost];
-  status = propagateToIp(ip, measurements[nodes[innermost].hit].surface);
+  status = propagateToIp(ip, measurements[nodes[innermost].hit].surface,
+                         input.beamLine);
   if (status != FitStatus::eSuccess) {
     return status;
   }
@@ -381,7 +382,7 @@ FitStatus KalmanFitter::fitDirection(
     out.covariance = smoothedCov[k];
     return out;
   };
-  track.atIp.reference = Vector3::Zero();
+  track.atIp.reference = ip.pivot;
   track.atIp.parameters = ip.params;
   symmetrize(ip.cov);
   track.atIp.covariance = ip.cov;
@@ -421,6 +422,9 @@ Track KalmanFitter::fit(std::span<const Hit> hits, const FitInput& input,
     if (h >= hits.size()) {
       throw std::out_of_range("KalmanFitter: hit index out of range");
     }
+  }
+  if (!input.beamLine.allFinite()) {
+    throw std::invalid_argument("KalmanFitter: beam line not finite");
   }
   if (input.hits.size() < m_config.minHits) {
     return finish(FitStatus::eTooFewHits);
@@ -505,7 +509,7 @@ void KalmanFitter::refitMajority(std::span<const Hit> hits,
     subHits[k] = input.hits[positions[k]];
     subMeasurements[k] = measurements[positions[k]];
   }
-  const FitInput subInput{subHits, input.backward};
+  const FitInput subInput{subHits, input.backward, input.beamLine};
   Track majority;
   majority.hits = subHits;
   majority.outlier.assign(subHits.size(), 0);

@@ -18,16 +18,17 @@ namespace {
 /// Rounds of merging: a third piece joins the merged pair in the second.
 constexpr int kMaxRounds = 3;
 
-/// Transverse arc length along the motion from the perigee (parameters at
-/// the origin) to the point of the circle nearest to `position` [mm], in
-/// (-pi, pi] / |Omega|: negative for a point behind the perigee or more
-/// than half a turn on.
-double arcFromPerigee(const TrackVector& p, const Vector3& position) {
+/// Transverse arc length along the motion from the perigee (parameters
+/// about its reference, the beam line) to the point of the circle nearest
+/// to `position` [mm], in (-pi, pi] / |Omega|: negative for a point behind
+/// the perigee or more than half a turn on.
+double arcFromPerigee(const TrackState& perigee, const Vector3& position) {
+  const TrackVector& p = perigee.parameters;
   const double phi0 = p[ePhi0];
   const double omega = p[eOmega];
   const double d0 = p[eD0];
-  const double px = -d0 * std::sin(phi0);
-  const double py = d0 * std::cos(phi0);
+  const double px = perigee.reference.x() - d0 * std::sin(phi0);
+  const double py = perigee.reference.y() + d0 * std::cos(phi0);
   const double dx = position.x() - px;
   const double dy = position.y() - py;
   // Nearly straight: the projection on the direction.
@@ -45,12 +46,12 @@ double arcFromPerigee(const TrackVector& p, const Vector3& position) {
   return -alpha / omega;
 }
 
-/// The parameters of the piece whose curvature is the better measured: its
+/// The perigee of the piece whose curvature is the better measured: its
 /// circle orders the hits of both.
-const TrackVector& betterMeasured(const Track& a, const Track& b) {
+const TrackState& betterMeasured(const Track& a, const Track& b) {
   return a.atIp.covariance(eOmega, eOmega) <= b.atIp.covariance(eOmega, eOmega)
-             ? a.atIp.parameters
-             : b.atIp.parameters;
+             ? a.atIp
+             : b.atIp;
 }
 
 bool positiveFinite(double x) { return x > 0.0 && std::isfinite(x); }
@@ -109,6 +110,9 @@ std::optional<double> SplitTrackMerger::compatible(std::span<const Hit> hits,
                                                    const Track& b) const {
   const TrackVector& pa = a.atIp.parameters;
   const TrackVector& pb = b.atIp.parameters;
+  if (a.atIp.reference != b.atIp.reference) {
+    return std::nullopt;  // perigees about different lines: not comparable
+  }
   if (pa[eOmega] * pb[eOmega] <= 0.0) {
     return std::nullopt;  // opposite charges (or a straight line)
   }
@@ -131,7 +135,7 @@ std::optional<double> SplitTrackMerger::compatible(std::span<const Hit> hits,
   // layer only within an overlap. A piece's hits may lie between the
   // other's: an extension skips a layer that a later step's piece holds.
   const double tolerance = m_config.maxSameLayerDistance;
-  const TrackVector& better = betterMeasured(a, b);
+  const TrackState& better = betterMeasured(a, b);
   for (const Track* t : {&a, &b}) {
     for (HitIndex h : t->hits) {
       if (!(arcFromPerigee(better, hits[h].position) > -tolerance)) {
@@ -155,7 +159,7 @@ std::optional<Track> SplitTrackMerger::merge(std::span<const Hit> hits,
                                              const Track& b) const {
   // Path order: by arc length (ties by index, for determinism), each
   // computed once; a hit both pieces hold once.
-  const TrackVector& better = betterMeasured(a, b);
+  const TrackState& better = betterMeasured(a, b);
   std::vector<std::pair<double, HitIndex>> byArc;
   byArc.reserve(a.hits.size() + b.hits.size());
   for (const Track* t : {&a, &b}) {
@@ -170,7 +174,9 @@ std::optional<Track> SplitTrackMerger::merge(std::span<const Hit> hits,
   for (const auto& [arc, h] : byArc) {
     merged.push_back(h);
   }
-  const Track fitted = m_fitter->fit(hits, FitInput{merged, false});
+  // About the pieces' beam line (their perigees' reference).
+  const Track fitted =
+      m_fitter->fit(hits, FitInput{merged, false, a.atIp.reference.head<2>()});
   const double worstPiece = std::max({1.0, chi2PerNdf(a), chi2PerNdf(b)});
   if (!fitted.fitted ||
       !(chi2PerNdf(fitted) <= m_config.maxChi2Ratio * worstPiece) ||

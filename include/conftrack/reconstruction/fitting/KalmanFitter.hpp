@@ -106,9 +106,10 @@ struct FittingResult {
 ///     Rauch-Tung-Striebel smoother (Frühwirth, NIM A262 (1987) 444,
 ///     eq. 19-21) over the nodes of pass 3;
 ///  4. the smoothed state at the innermost node propagated to the PCA to
-///     the z axis (reference = origin; the PCA within half a turn of the
-///     innermost hit), with the material crossed on the way (beam pipe) as
-///     process noise and energy-loss correction.
+///     the beam line (FitInput::beamLine, by default the z axis; reference
+///     = its point at z = 0; the PCA within half a turn of the innermost
+///     hit), with the material crossed on the way (beam pipe) as process
+///     noise and energy-loss correction.
 /// If 1-4 fail, they are retried in the other direction (paper 4.2,
 /// upstream MaxHitInvertedFit), then once with the fully diffuse start
 /// (Config::diffuseFallback). A fit that flags more hits as outliers than
@@ -279,9 +280,10 @@ class KalmanFitter {
   /// Fits one candidate. `hits` is the event's hit array that
   /// input.hits indexes. The result carries the hits (all, in input order)
   /// with outlier flags and, if fitted, the states at the IP (reference
-  /// origin), first and last used hit, chi2 and ndf = 2 n_used - 5; its
-  /// finding fields are left at their defaults. Throws std::out_of_range
-  /// for a hit index beyond `hits`.
+  /// (input.beamLine, 0)), first and last used hit, chi2 and ndf = 2
+  /// n_used - 5; its finding fields are left at their defaults. Throws
+  /// std::out_of_range for a hit index beyond `hits`,
+  /// std::invalid_argument for a beam line that is not finite.
   Track fit(std::span<const Hit> hits, const FitInput& input,
             FitInfo* info = nullptr) const;
 
@@ -329,8 +331,10 @@ class KalmanFitter {
                                std::uint32_t fromSurface,
                                std::uint32_t target) const;
   /// Propagates the state at the innermost node (inner side of the
-  /// surface `fromSurface`) to the PCA to the z axis.
-  FitStatus propagateToIp(Propagation& state, std::uint32_t fromSurface) const;
+  /// surface `fromSurface`) to the PCA to the line parallel to z through
+  /// (beamLine, 0), which becomes its pivot (FitInput::beamLine).
+  FitStatus propagateToIp(Propagation& state, std::uint32_t fromSurface,
+                          const Vector2& beamLine) const;
   /// Measurement update at a node (iterated where non-linear): the
   /// filtered state and the chi2 increment.
   FitStatus update(const Hit& hit, const Measurement& measurement,
