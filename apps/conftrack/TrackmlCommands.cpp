@@ -103,6 +103,8 @@ struct TrackmlSimOptions {
   std::size_t threads = 0;
   /// Unset: the real vertices; set: the interactions are moved to it.
   std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
+  /// --beam-line X,Y [mm, as typed]: the whole event moved transversely.
+  std::vector<double> beamLine;
 };
 
 /// The TrackML detector and its sensors from detectors.csv, and the
@@ -145,6 +147,9 @@ struct TrackmlSimulationSetup {
       cfg.simulator.maxTurns = Simulator::Config().maxTurns;
     }
     cfg.luminousRegion = opt.luminousRegion;
+    if (opt.beamLine.size() == 2) {
+      cfg.beamLine = Vector2(opt.beamLine[0], opt.beamLine[1]) * units::mm;
+    }
     return cfg;
   }
 
@@ -411,6 +416,14 @@ void addTrackmlCommands(CLI::App& app) {
       *s, *region,
       "moves every interaction (particles with one TrackML vertex id) along "
       "z to a point drawn from it, e.g. hllhc; default: the real vertices");
+  s->add_option("--beam-line", sim->beamLine,
+                "Transverse position X,Y [mm] where the beams collide: every "
+                "particle moves by it (the real events' beams are on the "
+                "axis); reconstruct with --beam-spot X,Y")
+      ->expected(2)
+      ->delimiter(',')
+      ->check(finiteNumber(-TrackmlEventSimulation::kMaxBeamLine / units::mm,
+                           TrackmlEventSimulation::kMaxBeamLine / units::mm));
   addThreadsOption(*s, sim->threads);
   s->callback([sim, region]() {
     sim->luminousRegion = chosenLuminousRegion(*region);

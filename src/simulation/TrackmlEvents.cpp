@@ -317,6 +317,12 @@ TrackmlEventSimulation::TrackmlEventSimulation(
     throw std::invalid_argument(
         "TrackmlEventSimulation: minPt must not be negative");
   }
+  if (!(std::abs(m_config.beamLine.x()) <= kMaxBeamLine &&
+        std::abs(m_config.beamLine.y()) <= kMaxBeamLine)) {
+    throw std::invalid_argument(
+        "TrackmlEventSimulation: beamLine must be finite and within 10 mm of "
+        "the axis in x and y");
+  }
   if (m_config.luminousRegion) {
     m_region.emplace(requireValidRegion(
         "TrackmlEventSimulation", "luminousRegion", *m_config.luminousRegion));
@@ -380,7 +386,17 @@ Event TrackmlEventSimulation::simulate(
         makeEngine(m_config.seed, eventNumber, RandomStream::eLuminousRegion);
     moved = moveTrackmlInteractions(input, *m_region, rng);
   }
-  const std::vector<Particle>& particles = m_region ? moved : input;
+  const bool offAxis = m_config.beamLine != Vector2::Zero();
+  if (offAxis) {
+    if (!m_region) {
+      moved = input;
+    }
+    for (Particle& p : moved) {
+      p.vertex.x() += m_config.beamLine.x();
+      p.vertex.y() += m_config.beamLine.y();
+    }
+  }
+  const std::vector<Particle>& particles = m_region || offAxis ? moved : input;
   RandomEngine simRng =
       makeEngine(m_config.seed, eventNumber, RandomStream::eSimulation);
   // Particles below minPt are simulated too: they end after their first

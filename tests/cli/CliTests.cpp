@@ -357,6 +357,29 @@ TEST(Cli, SimulateTrackmlLuminousRegion) {
               5.0 * 1.33);
 }
 
+TEST(Cli, SimulateTrackmlBeamLine) {
+  // --beam-line X,Y: every particle of the real events moves by (X, Y),
+  // the beams then collide off the detector axis.
+  const fs::path real = fs::path(CONFTRACK_TEST_DATA_DIR) / "trackml" /
+                        "train_100_events_no_truth";
+  const fs::path off = tempDir("beamline");
+  ASSERT_EQ(conftrack("-q simulate-trackml --min-pt 1e6 -i " + real.string() +
+                      " -o " + off.string() + " --beam-line 0.5,-0.25")
+                .code,
+            0);
+  const auto input =
+      conftrack::readEvent(real, 1005, nullptr, {false, true}).particles;
+  const auto moved =
+      conftrack::readEvent(off, 1005, nullptr, {false, true}).particles;
+  ASSERT_EQ(moved.size(), input.size());
+  for (std::size_t i = 0; i < input.size(); ++i) {
+    ASSERT_EQ(moved[i].id, input[i].id);
+    EXPECT_NEAR(moved[i].vertex.x() - input[i].vertex.x(), 0.5, 1e-9);
+    EXPECT_NEAR(moved[i].vertex.y() - input[i].vertex.y(), -0.25, 1e-9);
+    EXPECT_EQ(moved[i].vertex.z(), input[i].vertex.z());
+  }
+}
+
 TEST(Cli, ValidateTrackmlComparesWithTheRealFiles) {
   const fs::path out = tempDir("validate");
   const fs::path printed = conftrack::test::perTestPath("validate.txt");

@@ -15,10 +15,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "InputErrorOf.hpp"
 
@@ -598,6 +600,52 @@ TEST(TrackmlEvents, RealVerticesKeptUnlessARegionIsGiven) {
             }),
             "TrackmlEventSimulation: config field 'luminousRegion.sigmaZ': "
             "must lie in [0, 1000] mm (got -1)");
+}
+
+TEST(TrackmlEvents, BeamLineMovesTheWholeEventTransversely) {
+  // --beam-line: every particle moves by (x, y), alone or after the move
+  // along z of a luminous region; z, momenta and ids stay.
+  const std::vector<Particle> particles = {
+      particleAt(trackmlId(1, 0, 1), Vector3(0.01, 0.0, 2.0)),
+      particleAt(trackmlId(1, 0, 2), Vector3(0.01, 0.0, 2.0)),
+      particleAt(trackmlId(2, 0, 1), Vector3(30.0, 0.02, -7.0))};
+  TrackmlEventSimulation::Config config;
+  config.beamLine = Vector2(0.5, -0.5);
+  const Event off =
+      TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config)
+          .simulate(5, particles);
+  ASSERT_EQ(off.particles.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const Vector3 shift = off.particles[i].vertex - particles[i].vertex;
+    EXPECT_NEAR(shift.x(), 0.5, 1e-12) << i;
+    EXPECT_NEAR(shift.y(), -0.5, 1e-12) << i;
+    EXPECT_EQ(shift.z(), 0.0) << i;
+    EXPECT_EQ(off.particles[i].momentum, particles[i].momentum);
+    EXPECT_EQ(off.particles[i].id, particles[i].id);
+  }
+  // With a region: first along z (as without the line), then across.
+  config.luminousRegion = LuminousRegion::findPreset("hllhc")->config;
+  const Event both =
+      TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config)
+          .simulate(5, particles);
+  config.beamLine = Vector2::Zero();
+  const Event alongZ =
+      TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config)
+          .simulate(5, particles);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(both.particles[i].vertex.z(), alongZ.particles[i].vertex.z());
+    EXPECT_NEAR(both.particles[i].vertex.x() - alongZ.particles[i].vertex.x(),
+                0.5, 1e-12);
+  }
+  // Beyond the reconstruction's range, or not a number.
+  for (const Vector2& bad :
+       {Vector2(10.5, 0.0), Vector2(0.0, -11.0),
+        Vector2(std::numeric_limits<double>::quiet_NaN(), 0.0)}) {
+    config.beamLine = bad;
+    EXPECT_THROW(
+        TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config),
+        std::invalid_argument);
+  }
 }
 
 // The five shipped Kaggle events (713 interactions with a point): the

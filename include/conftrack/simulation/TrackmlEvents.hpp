@@ -214,14 +214,26 @@ class TrackmlEventSimulation {
     /// (seed, event number)), e.g. preset "hllhc" for an HL-LHC length of
     /// 50 mm instead of the Kaggle events' 5.5 mm.
     std::optional<LuminousRegion::Config> luminousRegion = std::nullopt;
+    /// The transverse position (x, y) [mm] of the beam line where the
+    /// beams of the sample collide: every particle of the input moves by
+    /// it, after any move along z (the real events' beams lie on the
+    /// detector axis to a micron, docs/luminous-region.md), a rigid move
+    /// of the whole event, so the particles keep their displacements from
+    /// their interactions. Finite, each coordinate within kMaxBeamLine.
+    Vector2 beamLine = Vector2::Zero();
   };
+
+  /// The largest |x| or |y| of Config::beamLine: 10 mm, the reconstruction's
+  /// range of beam lines (kMaxBeamSpotOffset of the finder).
+  static constexpr double kMaxBeamLine = 10.0 * units::mm;
 
   /// `modules` (may be null: ideal layers) holds the sensors of `detector`;
   /// the detector must outlive this. Throws std::invalid_argument for a
   /// noise fraction outside [0, 1), a negative or non-finite noise rate, a
   /// noise rate without a layout or together with a noise fraction, a
-  /// negative minPt, or a layout built for another detector; InputError
-  /// for a bad luminous region.
+  /// negative minPt, a beam line that is not finite or beyond
+  /// kMaxBeamLine, or a layout built for another detector; InputError for
+  /// a bad luminous region.
   TrackmlEventSimulation(const Detector& detector,
                          std::shared_ptr<const ModuleLayout> modules,
                          Config config);
