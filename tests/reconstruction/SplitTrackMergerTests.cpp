@@ -76,12 +76,13 @@ Simulated simulate(const std::vector<Particle>& particles) {
   return s;
 }
 
-/// The fitted track of some of a particle's hits, [first, last).
+/// The fitted track of some of a particle's hits, [first, last), its
+/// perigee about `beamLine`.
 Track piece(const Simulated& s, std::size_t particle, std::size_t first,
-            std::size_t last) {
+            std::size_t last, const Vector2& beamLine = Vector2::Zero()) {
   const std::vector<HitIndex> hits(s.byParticle[particle].begin() + first,
                                    s.byParticle[particle].begin() + last);
-  Track t = fitter().fit(s.event.hits, FitInput{hits, false});
+  Track t = fitter().fit(s.event.hits, FitInput{hits, false, beamLine});
   EXPECT_TRUE(t.fitted);
   return t;
 }
@@ -123,6 +124,20 @@ TEST(SplitTrackMerger, PiecesOfADisplacedParticleBecomeOneTrack) {
     // Off, nothing changes.
     const SplitTrackMerger off(fitter(), SplitTrackMerger::Config{});
     EXPECT_EQ(off.run(s.event.hits, tracks).tracks.size(), 3u);
+    // Perigees about a beam line off the axis: the pieces merge as about
+    // the axis, and the merged fit keeps their line (its refit took the
+    // axis before); pieces about two different lines stay apart (refused
+    // before their parameters are compared, which would refuse them too).
+    const Vector2 line(9.0, -4.0);
+    const SplitTrackMerger::Result aboutLine = merger.run(
+        s.event.hits, {piece(s, 0, 0, 4, line), piece(s, 0, 4, n, line)});
+    ASSERT_EQ(aboutLine.tracks.size(), 1u);
+    EXPECT_EQ(aboutLine.tracks[0].hits, s.byParticle[0]);
+    EXPECT_EQ(aboutLine.tracks[0].atIp.reference, Vector3(9.0, -4.0, 0.0));
+    EXPECT_EQ(
+        merger.run(s.event.hits, {piece(s, 0, 0, 4, line), piece(s, 0, 4, n)})
+            .tracks.size(),
+        2u);
   }
 }
 
