@@ -1,5 +1,6 @@
 #include "OptionChecks.hpp"
 
+#include "conftrack/core/BeamLine.hpp"
 #include "conftrack/core/Error.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
 #include "conftrack/simulation/LuminousRegion.hpp"
@@ -108,6 +109,16 @@ CLI::Validator luminousRegionPreset() {
         return "";
       },
       "PRESET");
+}
+
+CLI::Option* addBeamLineOption(CLI::App& command, const std::string& name,
+                               std::vector<double>& xy,
+                               const std::string& help) {
+  return command.add_option(name, xy, help)
+      ->expected(2)
+      ->delimiter(',')
+      ->check(finiteNumber(-kMaxBeamLineOffset / units::mm,
+                           kMaxBeamLineOffset / units::mm));
 }
 
 CLI::Validator pdgCode() {

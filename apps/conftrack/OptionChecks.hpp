@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace conftrack::cli {
 
@@ -27,6 +28,14 @@ CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max);
 
 /// A finite number in [min, max] (CLI11's Range lets NaN through).
 CLI::Validator finiteNumber(double min, double max);
+
+/// Adds option `name` taking a beam line's transverse position "X,Y" [mm,
+/// as typed] into `xy`: two finite numbers, each within
+/// kMaxBeamLineOffset (--beam-spot of the reconstruction, --beam-line of
+/// simulate-trackml).
+CLI::Option* addBeamLineOption(CLI::App& command, const std::string& name,
+                               std::vector<double>& xy,
+                               const std::string& help);
 
 /// A PDG code the fitter has a mass for (massHypothesis).
 CLI::Validator pdgCode();

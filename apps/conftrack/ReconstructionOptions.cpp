@@ -18,14 +18,11 @@ void addReconstructionOptions(CLI::App& cmd, ReconstructionOptions& o) {
          "Mass hypothesis of the fit (PDG code: 211, 13, 11, 321, 2212)")
       ->capture_default_str()
       ->check(pdgCode());
-  cmd.add_option("--beam-spot", o.beamSpot,
-                 "Transverse position X,Y of the beam line [mm], about which "
-                 "the finder maps hits to the conformal plane (default: the "
-                 "chain's beam_spot_x_mm, beam_spot_y_mm, else 0,0)")
-      ->expected(2)
-      ->delimiter(',')
-      ->check(finiteNumber(-kMaxBeamSpotOffset / units::mm,
-                           kMaxBeamSpotOffset / units::mm));
+  addBeamLineOption(cmd, "--beam-spot", o.beamSpot,
+                    "Transverse position X,Y of the beam line [mm], about "
+                    "which the finder maps hits to the conformal plane "
+                    "(default: the chain's beam_spot_x_mm, beam_spot_y_mm, "
+                    "else 0,0)");
 }
 
 Reconstruction::Config makeReconstructionConfig(const ReconstructionOptions& o,

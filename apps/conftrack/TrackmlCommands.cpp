@@ -416,14 +416,10 @@ void addTrackmlCommands(CLI::App& app) {
       *s, *region,
       "moves every interaction (particles with one TrackML vertex id) along "
       "z to a point drawn from it, e.g. hllhc; default: the real vertices");
-  s->add_option("--beam-line", sim->beamLine,
-                "Transverse position X,Y [mm] where the beams collide: every "
-                "particle moves by it (the real events' beams are on the "
-                "axis); reconstruct with --beam-spot X,Y")
-      ->expected(2)
-      ->delimiter(',')
-      ->check(finiteNumber(-TrackmlEventSimulation::kMaxBeamLine / units::mm,
-                           TrackmlEventSimulation::kMaxBeamLine / units::mm));
+  addBeamLineOption(*s, "--beam-line", sim->beamLine,
+                    "Transverse position X,Y [mm] where the beams collide: "
+                    "every particle moves by it (the real events' beams are "
+                    "on the axis); reconstruct with --beam-spot X,Y");
   addThreadsOption(*s, sim->threads);
   s->callback([sim, region]() {
     sim->luminousRegion = chosenLuminousRegion(*region);

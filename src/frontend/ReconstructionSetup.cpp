@@ -57,11 +57,11 @@ Reconstruction::Config makeReconstructionConfig(
   if (choice.beamSpot) {
     const Vector2& b = *choice.beamSpot;
     for (int k = 0; k < 2; ++k) {
-      if (!(std::abs(b[k]) <= kMaxBeamSpotOffset)) {
+      if (!(std::abs(b[k]) <= kMaxBeamLineOffset)) {
         throw InputError(
             "--beam-spot: " + std::string(k == 0 ? "x" : "y") +
             " must be finite and within " +
-            std::to_string(static_cast<int>(kMaxBeamSpotOffset / units::mm)) +
+            std::to_string(static_cast<int>(kMaxBeamLineOffset / units::mm)) +
             " mm of the detector axis");
       }
     }

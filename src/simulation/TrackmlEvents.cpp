@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 #include <unordered_map>
 
@@ -317,11 +318,12 @@ TrackmlEventSimulation::TrackmlEventSimulation(
     throw std::invalid_argument(
         "TrackmlEventSimulation: minPt must not be negative");
   }
-  if (!(std::abs(m_config.beamLine.x()) <= kMaxBeamLine &&
-        std::abs(m_config.beamLine.y()) <= kMaxBeamLine)) {
+  if (!(std::abs(m_config.beamLine.x()) <= kMaxBeamLineOffset &&
+        std::abs(m_config.beamLine.y()) <= kMaxBeamLineOffset)) {
     throw std::invalid_argument(
-        "TrackmlEventSimulation: beamLine must be finite and within 10 mm of "
-        "the axis in x and y");
+        "TrackmlEventSimulation: beamLine must be finite and within " +
+        std::to_string(static_cast<int>(kMaxBeamLineOffset / units::mm)) +
+        " mm of the axis in x and y");
   }
   if (m_config.luminousRegion) {
     m_region.emplace(requireValidRegion(
@@ -380,20 +382,20 @@ Event TrackmlEventSimulation::simulate(
     std::uint64_t eventNumber, const std::vector<Particle>& input) const {
   Event event;
   event.number = eventNumber;
+  // The particles as simulated: moved along z to the region's points,
+  // then across to the beam line; the input's own if neither is asked.
+  const bool offAxis = m_config.beamLine != Vector2::Zero();
   std::vector<Particle> moved;
   if (m_region) {
     RandomEngine rng =
         makeEngine(m_config.seed, eventNumber, RandomStream::eLuminousRegion);
     moved = moveTrackmlInteractions(input, *m_region, rng);
+  } else if (offAxis) {
+    moved = input;
   }
-  const bool offAxis = m_config.beamLine != Vector2::Zero();
   if (offAxis) {
-    if (!m_region) {
-      moved = input;
-    }
     for (Particle& p : moved) {
-      p.vertex.x() += m_config.beamLine.x();
-      p.vertex.y() += m_config.beamLine.y();
+      p.vertex.head<2>() += m_config.beamLine;
     }
   }
   const std::vector<Particle>& particles = m_region || offAxis ? moved : input;

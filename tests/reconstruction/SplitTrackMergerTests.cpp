@@ -126,8 +126,9 @@ TEST(SplitTrackMerger, PiecesOfADisplacedParticleBecomeOneTrack) {
     EXPECT_EQ(off.run(s.event.hits, tracks).tracks.size(), 3u);
     // Perigees about a beam line off the axis: the pieces merge as about
     // the axis, and the merged fit keeps their line (its refit took the
-    // axis before); pieces about two different lines stay apart (refused
-    // before their parameters are compared, which would refuse them too).
+    // axis before). Pieces about two lines are not compared, even 1 um
+    // apart, where their parameters would agree: no perigee of one line
+    // is taken as one of another.
     const Vector2 line(9.0, -4.0);
     const SplitTrackMerger::Result aboutLine = merger.run(
         s.event.hits, {piece(s, 0, 0, 4, line), piece(s, 0, 4, n, line)});
@@ -135,7 +136,9 @@ TEST(SplitTrackMerger, PiecesOfADisplacedParticleBecomeOneTrack) {
     EXPECT_EQ(aboutLine.tracks[0].hits, s.byParticle[0]);
     EXPECT_EQ(aboutLine.tracks[0].atIp.reference, Vector3(9.0, -4.0, 0.0));
     EXPECT_EQ(
-        merger.run(s.event.hits, {piece(s, 0, 0, 4, line), piece(s, 0, 4, n)})
+        merger
+            .run(s.event.hits, {piece(s, 0, 0, 4, line),
+                                piece(s, 0, 4, n, line + Vector2(1e-3, 0.0))})
             .tracks.size(),
         2u);
   }

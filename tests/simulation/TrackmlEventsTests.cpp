@@ -565,11 +565,17 @@ TEST(TrackmlInteractions, MovedAlongZKeepingDisplacements) {
 
 // By default every particle keeps its own vertex; with a region the event
 // holds the moved particles, the same for the same (seed, event).
+/// Two interactions: two particles of vertex 1 at z = 2 mm, one of vertex
+/// 2 at `second`.
+std::vector<Particle> twoInteractions(const Vector3& second) {
+  return {particleAt(trackmlId(1, 0, 1), Vector3(0.01, 0.0, 2.0)),
+          particleAt(trackmlId(1, 0, 2), Vector3(0.01, 0.0, 2.0)),
+          particleAt(trackmlId(2, 0, 1), second)};
+}
+
 TEST(TrackmlEvents, RealVerticesKeptUnlessARegionIsGiven) {
-  const std::vector<Particle> particles = {
-      particleAt(trackmlId(1, 0, 1), Vector3(0.01, 0.0, 2.0)),
-      particleAt(trackmlId(1, 0, 2), Vector3(0.01, 0.0, 2.0)),
-      particleAt(trackmlId(2, 0, 1), Vector3(0.0, 0.02, -7.0))};
+  const std::vector<Particle> particles =
+      twoInteractions(Vector3(0.0, 0.02, -7.0));
   TrackmlEventSimulation::Config config;
   const Event kept =
       TrackmlEventSimulation(trackmlDetector(), moduleLayout(), config)
@@ -605,10 +611,9 @@ TEST(TrackmlEvents, RealVerticesKeptUnlessARegionIsGiven) {
 TEST(TrackmlEvents, BeamLineMovesTheWholeEventTransversely) {
   // --beam-line: every particle moves by (x, y), alone or after the move
   // along z of a luminous region; z, momenta and ids stay.
-  const std::vector<Particle> particles = {
-      particleAt(trackmlId(1, 0, 1), Vector3(0.01, 0.0, 2.0)),
-      particleAt(trackmlId(1, 0, 2), Vector3(0.01, 0.0, 2.0)),
-      particleAt(trackmlId(2, 0, 1), Vector3(30.0, 0.02, -7.0))};
+  // (The second interaction's particle produced 30 mm out moves too.)
+  const std::vector<Particle> particles =
+      twoInteractions(Vector3(30.0, 0.02, -7.0));
   TrackmlEventSimulation::Config config;
   config.beamLine = Vector2(0.5, -0.5);
   const Event off =

@@ -7,6 +7,7 @@
 /// weights in the truth. File I/O is the caller's (io: readParticles,
 /// writeEvent); simulation does not depend on io.
 
+#include "conftrack/core/BeamLine.hpp"
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Hit.hpp"
 #include "conftrack/core/Particle.hpp"
@@ -219,20 +220,17 @@ class TrackmlEventSimulation {
     /// it, after any move along z (the real events' beams lie on the
     /// detector axis to a micron, docs/luminous-region.md), a rigid move
     /// of the whole event, so the particles keep their displacements from
-    /// their interactions. Finite, each coordinate within kMaxBeamLine.
+    /// their interactions. Finite, each coordinate within kMaxBeamLineOffset
+    /// (core/BeamLine.hpp).
     Vector2 beamLine = Vector2::Zero();
   };
-
-  /// The largest |x| or |y| of Config::beamLine: 10 mm, the reconstruction's
-  /// range of beam lines (kMaxBeamSpotOffset of the finder).
-  static constexpr double kMaxBeamLine = 10.0 * units::mm;
 
   /// `modules` (may be null: ideal layers) holds the sensors of `detector`;
   /// the detector must outlive this. Throws std::invalid_argument for a
   /// noise fraction outside [0, 1), a negative or non-finite noise rate, a
   /// noise rate without a layout or together with a noise fraction, a
   /// negative minPt, a beam line that is not finite or beyond
-  /// kMaxBeamLine, or a layout built for another detector; InputError for
+  /// kMaxBeamLineOffset, or a layout built for another detector; InputError for
   /// a bad luminous region.
   TrackmlEventSimulation(const Detector& detector,
                          std::shared_ptr<const ModuleLayout> modules,

@@ -409,11 +409,11 @@ BeamSpotPrepass::Result BeamSpotPrepass::run(std::span<const Hit> hits,
   }
   // A point at the edge of the vote's grid is that of circles cut by
   // maxD0, not the beam line; and the finder maps about a beam line within
-  // kMaxBeamSpotOffset only.
+  // kMaxBeamLineOffset only.
   const bool onGrid =
       (b - start).cwiseAbs().maxCoeff() <= c.maxD0 - 3.0 * kCoarseCell;
-  if (converged && onGrid && std::abs(b.x()) <= kMaxBeamSpotOffset &&
-      std::abs(b.y()) <= kMaxBeamSpotOffset) {
+  if (converged && onGrid && std::abs(b.x()) <= kMaxBeamLineOffset &&
+      std::abs(b.y()) <= kMaxBeamLineOffset) {
     result.valid = true;
     result.position = b;
     result.inliers = inliers;

@@ -404,7 +404,7 @@ FitStatus KalmanFitter::propagateToIp(Propagation& state,
   // node and the beam line (the field changes little over it).
   const HelixState innermost{state.pivot, state.params};
   const double bending =
-      bendingAt(0.5 * innermost.pca(), innermost.direction());
+      bendingAt(0.5 * (innermost.pca() + origin), innermost.direction());
   // Transverse arc from the current PCA to the PCA to the beam line,
   // within half a turn (physics.md 3).
   double s =

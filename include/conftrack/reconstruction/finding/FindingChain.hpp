@@ -5,6 +5,7 @@
 /// 13; conftrack's keys in docs/algorithm.md 2) and its TOML reader
 /// (format: README "Chain files").
 
+#include "conftrack/core/BeamLine.hpp"
 #include "conftrack/core/Units.hpp"
 #include "conftrack/geometry/Detector.hpp"
 #include "conftrack/reconstruction/finding/BeamSpotPrepass.hpp"
@@ -213,12 +214,6 @@ inline double FindingStep::chi2CutAt(double pt) const {
 /// twice; nothing if valid.
 std::optional<std::string> subdetectorListProblem(
     const std::vector<std::uint16_t>& list, const Detector& detector);
-
-/// Largest distance of the beam line from the detector axis, per
-/// coordinate (FinderConfig::beamSpotX, beamSpotY): well inside the
-/// innermost layers of any tracker (CLICdet 31 mm, TrackML 32 mm), whose
-/// crossings the finder takes as centred on the beam line.
-inline constexpr double kMaxBeamSpotOffset = 10.0 * units::mm;
 
 /// Settings of the whole finder plus its steps.
 struct FinderConfig {
