@@ -104,6 +104,9 @@ void HoleFilling::findHole(LayerCrossingSearch& search, const Chain& chain,
   const std::vector<double>& hitS = m_work.hitS;
   const bool local = m_config.residuals == Residuals::eToNeighbours;
   double bestChi2 = std::numeric_limits<double>::infinity();
+  // From the first hit (s = 0) outwards, on the branch the track is on.
+  const SearchStart from =
+      search.start(chain.arc, chain.sz, 0.0, Direction::eOutward);
   for (std::uint32_t layer : search.pool().layers()) {
     bool present = false;
     for (ConfIndex h : chain.hits) {
@@ -112,10 +115,8 @@ void HoleFilling::findHole(LayerCrossingSearch& search, const Chain& chain,
     if (present) {
       continue;
     }
-    // From the first hit (s = 0) outwards, on the branch the track is on.
     const std::vector<Prediction>& predictions =
-        search.predict(layer, chain.arc, chain.sz, 0.0, Direction::eOutward,
-                       Branches::eOutgoing);
+        search.predict(layer, from, Branches::eOutgoing);
     for (const Prediction& p : predictions) {
       if (!(p.s < hitS.back())) {
         continue;

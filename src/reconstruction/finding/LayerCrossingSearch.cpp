@@ -37,6 +37,22 @@ bool meetRadius(const ArcFrame& arc, double radius, int sign, double& x,
   return true;
 }
 
+/// The arc length of a crossing is known up to whole turns: the one just
+/// beyond the end hit at `sLast` in the direction of the search.
+double arcAfter(const ArcFrame& arc, double s, double sLast, bool inward) {
+  const double turn = 2.0 * std::numbers::pi * arc.radius;
+  if (inward) {
+    while (s >= sLast - 1e-6) {
+      s -= turn;
+    }
+    return s;
+  }
+  while (s <= sLast + 1e-6) {
+    s += turn;
+  }
+  return s;
+}
+
 }  // namespace
 
 bool LayerCrossingSearch::begin(const TrackCandidate& track,
@@ -138,53 +154,53 @@ void LayerCrossingSearch::limitWindow(const Vector3& at) {
   }
 }
 
-const std::vector<Prediction>& LayerCrossingSearch::predict(
-    std::uint32_t layer, const ArcFrame& arc, const SzFitResult& sz,
-    double sLast, Direction direction, Branches branches) {
-  std::vector<Prediction>& out = m_scratch.predictions;
-  out.clear();
-  const bool inward = direction == Direction::eInward;
-  const SensitiveLayer& l = m_state.detector.layers()[layer];
-  const double turn = 2.0 * std::numbers::pi * arc.radius;
-  // The arc length of a crossing is known up to whole turns: take the one
-  // just beyond the end hit in the direction of the search.
-  auto after = [&](double s) {
-    if (inward) {
-      while (s >= sLast - 1e-6) {
-        s -= turn;
-      }
-      return s;
-    }
-    while (s <= sLast + 1e-6) {
-      s += turn;
-    }
-    return s;
-  };
+SearchStart LayerCrossingSearch::start(const ArcFrame& arc,
+                                       const SzFitResult& sz, double sLast,
+                                       Direction direction) {
+  SearchStart from{arc, sz, sLast, direction,
+                   std::numeric_limits<double>::infinity()};
+  if (direction == Direction::eInward) {
+    return from;
+  }
   // Outward, the track ends where its circle first leaves the tracker
   // (docs/algorithm.md 3.18).
-  double sExit = std::numeric_limits<double>::infinity();
-  if (!inward) {
-    double& ro = m_scratch.outerRadius;
-    if (ro < 0.0) {
-      ro = 0.0;
-      for (const SensitiveLayer& o : m_state.detector.layers()) {
-        ro = std::max(ro, o.isDisk() ? o.rMax : o.r);
-      }
-      ro += kLayerMargin;
+  double& ro = m_scratch.outerRadius;
+  if (ro < 0.0) {
+    ro = 0.0;
+    for (const SensitiveLayer& o : m_state.detector.layers()) {
+      ro = std::max(ro, o.isDisk() ? o.rMax : o.r);
     }
-    for (int sign : {1, -1}) {
-      double x = 0.0;
-      double y = 0.0;
-      if (meetRadius(arc, ro, sign, x, y)) {
-        sExit = std::min(sExit, after(arc.arcLength(x, y, sLast)));
-      }
-    }
-    // Where the data's particles end after a fraction of a turn
-    // (FinderConfig::maxTrackTurns), measured from the track's first hit.
-    if (m_state.config.maxTrackTurns > 0.0) {
-      sExit = std::min(sExit, m_state.config.maxTrackTurns * turn);
+    ro += kLayerMargin;
+  }
+  for (int sign : {1, -1}) {
+    double x = 0.0;
+    double y = 0.0;
+    if (meetRadius(arc, ro, sign, x, y)) {
+      from.sExit = std::min(
+          from.sExit, arcAfter(arc, arc.arcLength(x, y, sLast), sLast, false));
     }
   }
+  // Where the data's particles end after a fraction of a turn
+  // (FinderConfig::maxTrackTurns), measured from the track's first hit.
+  if (m_state.config.maxTrackTurns > 0.0) {
+    const double turn = 2.0 * std::numbers::pi * arc.radius;
+    from.sExit = std::min(from.sExit, m_state.config.maxTrackTurns * turn);
+  }
+  return from;
+}
+
+const std::vector<Prediction>& LayerCrossingSearch::predict(
+    std::uint32_t layer, const SearchStart& from, Branches branches) {
+  std::vector<Prediction>& out = m_scratch.predictions;
+  out.clear();
+  const ArcFrame& arc = from.arc;
+  const SzFitResult& sz = from.sz;
+  const double sLast = from.sLast;
+  const double sExit = from.sExit;
+  const bool inward = from.direction == Direction::eInward;
+  const SensitiveLayer& l = m_state.detector.layers()[layer];
+  const double turn = 2.0 * std::numbers::pi * arc.radius;
+  auto after = [&](double s) { return arcAfter(arc, s, sLast, inward); };
   // In a non-uniform field the circle is the track's in the conformal map
   // of makeConformalHits: it passes the azimuth of a crossing at radius
   // g r, and the arc length of the crossing is that of the mapped point

@@ -237,9 +237,11 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
   // Arc length of the nearest layer with compatible hits so far, as a
   // distance from the end being extended.
   double firstS = std::numeric_limits<double>::infinity();
+  const SearchStart from =
+      m_search.start(chain.arc, sz, sLast, m_rules.direction);
   for (std::uint32_t layer : m_search.pool().layers()) {
-    const std::vector<Prediction>& predictions = m_search.predict(
-        layer, chain.arc, sz, sLast, m_rules.direction, m_rules.branches);
+    const std::vector<Prediction>& predictions =
+        m_search.predict(layer, from, m_rules.branches);
     predicted = predicted || !predictions.empty();
     for (const Prediction& p : predictions) {
       double dist = std::abs(p.s - sLast);

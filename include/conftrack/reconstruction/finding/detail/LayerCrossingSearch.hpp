@@ -63,6 +63,25 @@ enum class Branches : std::uint8_t {
   eWholeTurn,
 };
 
+/// Where the searches of one chain state start (LayerCrossingSearch::start):
+/// the chain's circle and (s, z) line, the arc length of the hit it is
+/// extended from and the direction, and the arc length beyond which no
+/// crossing is predicted. That limit depends on the chain, not on the
+/// layer, so it is taken once for the loop over a pool's layers (two
+/// circle intersections and arc lengths, each an atan2: they were a fifth
+/// of predict()'s cost when taken per layer).
+struct SearchStart {
+  ArcFrame arc;
+  SzFitResult sz;
+  double sLast = 0.0;
+  Direction direction = Direction::eOutward;
+  /// Outward: where the track's circle first leaves the tracker (the
+  /// largest barrel radius or disk outer radius, plus a margin) or
+  /// FinderConfig::maxTrackTurns from its first hit, whichever is first;
+  /// inward: infinite.
+  double sExit = 0.0;
+};
+
 /// Scratch buffers of the searches, reused from track to track so that the
 /// loops over crossings and hits allocate nothing once they have grown.
 struct CrossingScratch {
@@ -105,15 +124,17 @@ class LayerCrossingSearch {
   /// false, leaving the fits as they were, if a fit fails.
   bool refit(Chain& c, const ConformalFitResult* frame) const;
 
-  /// Crossings of `layer` beyond arc length sLast in `direction`, those of
+  /// The start of the searches along `arc` and `sz` from arc length
+  /// `sLast` in `direction` (its SearchStart::sExit computed here).
+  SearchStart start(const ArcFrame& arc, const SzFitResult& sz, double sLast,
+                    Direction direction);
+
+  /// Crossings of `layer` beyond `from.sLast` in `from.direction`, those of
   /// `branches`, near the layer's extent (kept until the next call).
-  /// Outward, none after the track has left the tracker (its circle
-  /// crossing the largest barrel radius or disk outer radius, plus a
-  /// margin): a crossing a turn later is another particle's.
+  /// Outward, none beyond `from.sExit`: a crossing after the track has
+  /// left the tracker, a turn later, is another particle's.
   const std::vector<Prediction>& predict(std::uint32_t layer,
-                                         const ArcFrame& arc,
-                                         const SzFitResult& sz, double sLast,
-                                         Direction direction,
+                                         const SearchStart& from,
                                          Branches branches);
 
   /// The pool's hits on `layer` within `halfWidth` of azimuth `phi` and,
