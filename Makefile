@@ -1,7 +1,8 @@
 # conftrack: the two commands of the README.
 #   make run   install missing Debian packages, build, run the main job
 #   make test  install missing Debian packages, build, run the test suite
-#   make check-sanitizers  the same under ASan + UBSan (build-asan/), plus
+#   make check-sanitizers  the same under ASan + UBSan (build-asan/; without
+#              the 13 longest TrackML chain tests), plus
 #              the main job on 5 events and a real TrackML reconstruction
 #   make fuzz  build the libFuzzer targets (clang-14) and run each for
 #              FUZZ_SECONDS seconds (docs/fuzzing.md)
