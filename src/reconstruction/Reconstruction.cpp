@@ -20,18 +20,19 @@ FitInput fitInput(const FoundTrack& found, const Vector2& beamLine) {
   return {found.hits, found.fitBackward, beamLine};
 }
 
-Track withFit(const FoundTrack& found, Track fitted) {
+Track withFit(const FoundTrack& found, const Track& fitted) {
   Track track = toTrack(found);
   // The fit's flags for the hits it was given; further-turn hits follow.
   track.takeFit(fitted);
   return track;
 }
 
-Reconstruction::Reconstruction(const Detector& detector, Config config,
-                               std::shared_ptr<const ModuleLayout> sensors)
+Reconstruction::Reconstruction(
+    const Detector& detector, Config config,
+    const std::shared_ptr<const ModuleLayout>& sensors)
     : m_config(std::move(config)),
       m_finder(detector, {m_config.chain}),
-      m_fitter(detector, m_config.fitter, std::move(sensors)),
+      m_fitter(detector, m_config.fitter, sensors),
       m_merger(m_fitter, m_config.merger),
       m_selector(selectorConfig(m_config)) {
   if (auto p =
@@ -91,7 +92,7 @@ void Reconstruction::fitAndSelect(std::span<const Hit> hits,
     r.fitFailures += fitted.failures;
     tracks.reserve(found.size());
     for (std::size_t i = 0; i < found.size(); ++i) {
-      tracks.push_back(withFit(found[i], std::move(fitted.tracks[i])));
+      tracks.push_back(withFit(found[i], fitted.tracks[i]));
     }
     // The candidates are no longer needed: free them before the selection.
     std::vector<FoundTrack>().swap(found);

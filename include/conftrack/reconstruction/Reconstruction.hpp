@@ -34,7 +34,7 @@ FitInput fitInput(const FoundTrack& found,
 
 /// The finder's track (toTrack) with the results of `fitted`, the fit of
 /// fitInput(found): outlier flags, states, chi2 and ndf.
-Track withFit(const FoundTrack& found, Track fitted);
+Track withFit(const FoundTrack& found, const Track& fitted);
 
 class Reconstruction {
  public:
@@ -88,7 +88,7 @@ class Reconstruction {
   /// (KalmanFitter). Without it hits are measured on the plane of their
   /// own axes, a layer's tangent plane for hits read from files.
   Reconstruction(const Detector& detector, Config config,
-                 std::shared_ptr<const ModuleLayout> sensors = nullptr);
+                 const std::shared_ptr<const ModuleLayout>& sensors = nullptr);
 
   /// Reconstructs the tracks of one event. Thread-safe (const).
   Result run(std::span<const Hit> hits) const;

@@ -74,7 +74,7 @@ KalmanFitter::KalmanFitter(const Detector& detector)
     : KalmanFitter(detector, Config()) {}
 
 KalmanFitter::KalmanFitter(const Detector& detector, const Config& config,
-                           std::shared_ptr<const ModuleLayout> sensors)
+                           const std::shared_ptr<const ModuleLayout>& sensors)
     : m_config(config),
       m_bz(detector.bz()),
       m_followField(config.followField && !detector.field().isUniform()),

@@ -270,7 +270,7 @@ class KalmanFitter {
   /// sensor's. Throws std::invalid_argument for a layout of another
   /// detector.
   KalmanFitter(const Detector& detector, const Config& config,
-               std::shared_ptr<const ModuleLayout> sensors = nullptr);
+               const std::shared_ptr<const ModuleLayout>& sensors = nullptr);
 
   /// The settings.
   const Config& config() const { return m_config; }
