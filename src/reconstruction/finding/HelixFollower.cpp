@@ -363,7 +363,10 @@ TransverseCircle HelixFollower::nextStretch(const HelixPath& p,
 }
 
 bool HelixFollower::skipsLayer(const HelixPath& p, const TransverseCircle& c) {
-  predict(p.hits[0], 0.0, p.z0, p.t, c, m_crossings);
+  // Only the crossings before the seed's last hit matter: most of the
+  // pool's layers lie further than that (a quarter of the helix step's
+  // work went into predicting them for every triplet).
+  predict(p.hits[0], 0.0, p.z0, p.t, c, m_crossings, p.s[2]);
   for (const Crossing& x : m_crossings) {
     if (x.ds >= p.s[2] - 1e-6) {
       break;
@@ -379,7 +382,7 @@ bool HelixFollower::skipsLayer(const HelixPath& p, const TransverseCircle& c) {
 
 void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
                             const TransverseCircle& c,
-                            std::vector<Crossing>& out) {
+                            std::vector<Crossing>& out, double maxArc) {
   out.clear();
   // The helix through the hit along the circle's tangent there (the
   // crossings are geometry's, shared with the simulation and the fit).
@@ -405,6 +408,15 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
   if (!(halfTurn > kMinStep)) {
     return;
   }
+  // The crossings' arc lengths are searched up to sMax; a tighter bound
+  // filters them without changing any (Helix::nextCylinderCrossing,
+  // nextDiskCrossing).
+  const double sMax = std::min(halfTurn, maxArc);
+  if (!(sMax > kMinStep)) {
+    return;
+  }
+  // The transverse arc to a cylinder is at least the radial distance to it.
+  const double rFrom = norm2(m_hits.x[from], m_hits.y[from]);
   auto add = [&](std::uint32_t layer, double ds, bool disk) {
     const SensitiveLayer& l = m_layers[layer];
     const Vector3 x = helix.position(ds);
@@ -421,12 +433,14 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
       if (layer == m_hits.layer[from]) {
         continue;
       }
-      const double ds =
-          helix.nextDiskCrossing(l.z(), l.rMin - kLayerMargin,
-                                 l.rMax + kLayerMargin, kMinStep, halfTurn);
+      const double ds = helix.nextDiskCrossing(
+          l.z(), l.rMin - kLayerMargin, l.rMax + kLayerMargin, kMinStep, sMax);
       if (ds != Helix::kNoCrossing) {
         add(layer, ds, true);
       }
+      continue;
+    }
+    if (std::abs(l.r - rFrom) > sMax + kMinStep) {
       continue;
     }
     // A barrel layer may be crossed twice within the half-turn (out and
@@ -434,7 +448,7 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
     double after = kMinStep;
     for (int k = 0; k < 2; ++k) {
       const double ds = helix.nextCylinderCrossing(
-          l.r, l.zMin - kLayerMargin, l.zMax + kLayerMargin, after, halfTurn);
+          l.r, l.zMin - kLayerMargin, l.zMax + kLayerMargin, after, sMax);
       if (ds == Helix::kNoCrossing) {
         break;
       }

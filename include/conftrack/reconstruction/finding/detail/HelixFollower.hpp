@@ -14,6 +14,7 @@
 #include "conftrack/reconstruction/finding/detail/HelixPredictionError.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace conftrack::detail {
@@ -130,11 +131,15 @@ class HelixFollower {
                                const SzState& sz);
 
   /// Predicted crossings of the pool's layers after hit `from` (arc length
-  /// sFrom on the line z = z0 + t s), within the outgoing half-turn,
-  /// nearest first. `inside` is set for crossings at least kHelixEdgeMargin
-  /// inside the layer's extent (where a missing hit is a real miss).
+  /// sFrom on the line z = z0 + t s), within the outgoing half-turn and
+  /// within `maxArc` of the hit, nearest first. `inside` is set for
+  /// crossings at least kHelixEdgeMargin inside the layer's extent (where
+  /// a missing hit is a real miss). A crossing's arc length does not
+  /// depend on maxArc, which only leaves out the later ones (and the
+  /// barrels further across the radius, which the arc cannot reach).
   void predict(ConfIndex from, double sFrom, double z0, double t,
-               const TransverseCircle& c, std::vector<Crossing>& out);
+               const TransverseCircle& c, std::vector<Crossing>& out,
+               double maxArc = std::numeric_limits<double>::infinity());
 
   /// Sets m_taken to the chosen hit of a layer crossing and, on other
   /// sensors of the same layer, the compatible hits of the crossing's
