@@ -68,8 +68,8 @@ enum class Branches : std::uint8_t {
 /// extended from and the direction, and the arc length beyond which no
 /// crossing is predicted. That limit depends on the chain, not on the
 /// layer, so it is taken once for the loop over a pool's layers (two
-/// circle intersections and arc lengths, each an atan2: they were a fifth
-/// of predict()'s cost when taken per layer).
+/// circle intersections and arc lengths, each an atan2: taken per layer
+/// they were half of predict()'s cost on CLICdet).
 struct SearchStart {
   ArcFrame arc;
   SzFitResult sz;
