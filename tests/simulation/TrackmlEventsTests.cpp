@@ -563,8 +563,6 @@ TEST(TrackmlInteractions, MovedAlongZKeepingDisplacements) {
             moved[7].vertex);
 }
 
-// By default every particle keeps its own vertex; with a region the event
-// holds the moved particles, the same for the same (seed, event).
 /// Two interactions: two particles of vertex 1 at z = 2 mm, one of vertex
 /// 2 at `second`.
 std::vector<Particle> twoInteractions(const Vector3& second) {
@@ -573,6 +571,8 @@ std::vector<Particle> twoInteractions(const Vector3& second) {
           particleAt(trackmlId(2, 0, 1), second)};
 }
 
+// By default every particle keeps its own vertex; with a region the event
+// holds the moved particles, the same for the same (seed, event).
 TEST(TrackmlEvents, RealVerticesKeptUnlessARegionIsGiven) {
   const std::vector<Particle> particles =
       twoInteractions(Vector3(0.0, 0.02, -7.0));

@@ -404,14 +404,10 @@ void HelixFollower::predict(ConfIndex from, double sFrom, double z0, double t,
   // and where the circle's orientation from its first, middle and last
   // hits (fitCircle) and the arc lengths would be ambiguous. Noise hits on
   // that leg otherwise lengthen a correct path into one the fit rejects.
-  const double halfTurn = std::numbers::pi * c.rho - sFrom;
-  if (!(halfTurn > kMinStep)) {
-    return;
-  }
-  // The crossings' arc lengths are searched up to sMax; a tighter bound
-  // filters them without changing any (Helix::nextCylinderCrossing,
-  // nextDiskCrossing).
-  const double sMax = std::min(halfTurn, maxArc);
+  // The crossings' arc lengths are searched up to sMax; a bound tighter
+  // than the half-turn filters them without changing any
+  // (Helix::nextCylinderCrossing, nextDiskCrossing).
+  const double sMax = std::min(std::numbers::pi * c.rho - sFrom, maxArc);
   if (!(sMax > kMinStep)) {
     return;
   }

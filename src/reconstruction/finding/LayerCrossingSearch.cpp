@@ -37,10 +37,10 @@ bool meetRadius(const ArcFrame& arc, double radius, int sign, double& x,
   return true;
 }
 
-/// The arc length of a crossing is known up to whole turns: the one just
-/// beyond the end hit at `sLast` in the direction of the search.
-double arcAfter(const ArcFrame& arc, double s, double sLast, bool inward) {
-  const double turn = 2.0 * std::numbers::pi * arc.radius;
+/// The arc length of a crossing is known up to whole turns (of length
+/// `turn`): the one just beyond the end hit at `sLast` in the direction of
+/// the search.
+double arcAfter(double turn, double s, double sLast, bool inward) {
   if (inward) {
     while (s >= sLast - 1e-6) {
       s -= turn;
@@ -172,18 +172,18 @@ SearchStart LayerCrossingSearch::start(const ArcFrame& arc,
     }
     ro += kLayerMargin;
   }
+  const double turn = 2.0 * std::numbers::pi * arc.radius;
   for (int sign : {1, -1}) {
     double x = 0.0;
     double y = 0.0;
     if (meetRadius(arc, ro, sign, x, y)) {
       from.sExit = std::min(
-          from.sExit, arcAfter(arc, arc.arcLength(x, y, sLast), sLast, false));
+          from.sExit, arcAfter(turn, arc.arcLength(x, y, sLast), sLast, false));
     }
   }
   // Where the data's particles end after a fraction of a turn
   // (FinderConfig::maxTrackTurns), measured from the track's first hit.
   if (m_state.config.maxTrackTurns > 0.0) {
-    const double turn = 2.0 * std::numbers::pi * arc.radius;
     from.sExit = std::min(from.sExit, m_state.config.maxTrackTurns * turn);
   }
   return from;
@@ -200,7 +200,7 @@ const std::vector<Prediction>& LayerCrossingSearch::predict(
   const bool inward = from.direction == Direction::eInward;
   const SensitiveLayer& l = m_state.detector.layers()[layer];
   const double turn = 2.0 * std::numbers::pi * arc.radius;
-  auto after = [&](double s) { return arcAfter(arc, s, sLast, inward); };
+  auto after = [&](double s) { return arcAfter(turn, s, sLast, inward); };
   // In a non-uniform field the circle is the track's in the conformal map
   // of makeConformalHits: it passes the azimuth of a crossing at radius
   // g r, and the arc length of the crossing is that of the mapped point

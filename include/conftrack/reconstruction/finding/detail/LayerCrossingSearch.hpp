@@ -10,6 +10,7 @@
 #include "conftrack/reconstruction/finding/detail/FinderState.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -79,7 +80,7 @@ struct SearchStart {
   /// largest barrel radius or disk outer radius, plus a margin) or
   /// FinderConfig::maxTrackTurns from its first hit, whichever is first;
   /// inward: infinite.
-  double sExit = 0.0;
+  double sExit = std::numeric_limits<double>::infinity();
 };
 
 /// Scratch buffers of the searches, reused from track to track so that the
