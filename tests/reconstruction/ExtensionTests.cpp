@@ -125,6 +125,32 @@ TEST(TrackExtension, RefusesAHitFarBeyondTheTrackFitQuality) {
   EXPECT_EQ(ev.state.used[ev.index(100)], 0);
 }
 
+TEST(TrackExtension, PassesAPoorHitByForABetterOneBeyond) {
+  // The neighbour's hit beside the gap passes the loose chi2_cut; with
+  // extension_skip_chi2 below its chi2 the extension compares it with the
+  // helix's hit on the next layer, which is better by far more than a
+  // missing hit's charge, and passes the gap by.
+  const Detector det = test::barrelDetector();
+  FinderConfig cfg = test::oneBuildStep();
+  cfg.steps[0].chi2Cut = 1e5;
+  auto extended = [&](double skipChi2, bool& neighbourFree) {
+    cfg.extensionSkipChi2 = skipChi2;
+    test::Event ev(det, gapWithNeighbour(det, 0.2), cfg);
+    const std::uint32_t t = ev.addTrack({1, 2, 3, 4});
+    TrackExtension(extensionConfig(ev.cfg)).run(ev.state, ev.pool, ev.stats, t);
+    neighbourFree = ev.state.used[ev.index(100)] == 0;
+    return ev.ids(t);
+  };
+  bool free = false;
+  EXPECT_EQ(extended(0.0, free), (Ids{1, 2, 3, 4, 100, 6, 7, 8}))
+      << "off by default";
+  EXPECT_FALSE(free);
+  EXPECT_EQ(extended(1e6, free), (Ids{1, 2, 3, 4, 100, 6, 7, 8}))
+      << "a hit below the threshold is taken as before";
+  EXPECT_EQ(extended(50.0, free), (Ids{1, 2, 3, 4, 6, 7, 8}));
+  EXPECT_TRUE(free);
+}
+
 TEST(ExtensionCuts, HitChi2CutFollowsTheTrackFitQuality) {
   ExtensionCuts cuts;
   ConformalFitResult uv;
@@ -297,6 +323,7 @@ TEST(ExtensionConfig, FromStepTakesTheStepAndFinderSettings) {
   cfg.scatteringAllowance = false;
   cfg.extensionHitChi2Ratio = 25.0;
   cfg.extensionHitChi2Floor = 60.0;
+  cfg.extensionSkipChi2 = 250.0;
   cfg.steps[0].chi2PtScale = 2.5;
   const TrackExtension::Config c = extensionConfig(cfg);
   EXPECT_DOUBLE_EQ(c.cuts.maxCellAngle, 0.05);
@@ -308,6 +335,7 @@ TEST(ExtensionConfig, FromStepTakesTheStepAndFinderSettings) {
   EXPECT_EQ(c.cuts.lookahead, 1);
   EXPECT_DOUBLE_EQ(c.cuts.hitChi2Ratio, 25.0);
   EXPECT_DOUBLE_EQ(c.cuts.hitChi2Floor, 60.0);
+  EXPECT_DOUBLE_EQ(c.cuts.skipChi2, 250.0);
   EXPECT_FALSE(c.scatteringAllowance);
   // The pT scaling of the step's cut (one formula, scaledChi2Cut).
   for (double pt : {0.0, 1e-4, 0.5, 1.25, 2.4999, 2.5, 10.0}) {
@@ -364,6 +392,9 @@ TEST(ExtensionConfig, RejectsBadValuesNamingTheKey) {
   expectRejected(
       [&] { CatchAllExtension({bad([](auto& c) { c.hitChi2Ratio = -1.0; })}); },
       "extension_hit_chi2_ratio");
+  expectRejected(
+      [&] { CatchAllExtension({bad([](auto& c) { c.skipChi2 = -1.0; })}); },
+      "extension_skip_chi2");
   expectRejected(
       [&] {
         TrackExtension({bad([](auto& c) { c.hitChi2Floor = 0.0; }), true});

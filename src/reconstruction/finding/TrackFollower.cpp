@@ -17,21 +17,22 @@
 // passes, that crossing is tried again with an allowance for multiple
 // scattering in the hit variances (FollowRules::scatteringAllowance). Of
 // the layers with compatible hits, the one crossed first along the track is
-// taken. Upstream takes the hit of lowest chi2_uv increase there; in dense
-// jets that greedy choice swaps hits between particles a fraction of a mrad
-// apart, because a vertex-detector track cannot predict its curvature well
-// enough at the first tracker layer (only the next layers' lever arm tells
-// them apart). So when several hits on that layer are compatible, each of
-// the best few is scored by its chi2_uv + chi2_sz increase plus that of the
-// best continuation on the following layers (a look-ahead of
-// ExtensionCuts::lookahead layers), and the lowest total wins. These
-// scores carry the scattering in the last layer in the hit variances
-// (LayerCrossingSearch::scatter), which the cuts leave out: without it the
-// hit nearest in (u, v) wins even where z, measured far less precisely on
-// strips, rules it out. The hits
-// examined per predicted crossing are bounded (ExtensionCuts::maxWindowHits,
-// counted; the nearest to the predicted point are kept), so that the cost
-// per track does not grow without bound with the hit density.
+// taken (ExtensionCuts::skipChi2: unless its best hit is poor and a later
+// layer's is better by more than a missing hit's charge). Upstream takes
+// the hit of lowest chi2_uv increase there; in dense jets that greedy
+// choice swaps hits between particles a fraction of a mrad apart, because a
+// vertex-detector track cannot predict its curvature well enough at the first
+// tracker layer (only the next layers' lever arm tells them apart). So when
+// several hits on that layer are compatible, each of the best few is scored by
+// its chi2_uv + chi2_sz increase plus that of the best continuation on the
+// following layers (a look-ahead of ExtensionCuts::lookahead layers), and the
+// lowest total wins. These scores carry the scattering in the last layer in the
+// hit variances (LayerCrossingSearch::scatter), which the cuts leave out:
+// without it the hit nearest in (u, v) wins even where z, measured far less
+// precisely on strips, rules it out. The hits examined per predicted crossing
+// are bounded (ExtensionCuts::maxWindowHits, counted; the nearest to the
+// predicted point are kept), so that the cost per track does not grow without
+// bound with the hit density.
 
 #include "conftrack/reconstruction/finding/detail/TrackFollower.hpp"
 
@@ -91,13 +92,15 @@ class Follower {
 
   /// Compatible hits on the first layer crossed after the chain's end hit,
   /// best (lowest chi2 increase) first. `excluded` is a tentative hit of
-  /// the look-ahead. Returns whether any crossing was predicted at all.
+  /// the look-ahead; crossings no further than `beyond` from the end hit
+  /// are passed by (ExtensionCuts::skipChi2). Returns whether any crossing
+  /// was predicted at all.
   /// Hits compatible within the hit resolutions are preferred; only when
   /// there are none are the chi2 increments recomputed with the allowance
   /// for multiple scattering. In dense jets the allowance alone let low-pT
   /// tracks take hits of neighbours a fraction of a mm away.
   bool collect(const Chain& chain, std::vector<Candidate>& out,
-               ConfIndex excluded = kInvalidIndex);
+               ConfIndex excluded = kInvalidIndex, double beyond = -1.0);
 
   /// collect, without (`allowanceReach` null) or with the scattering
   /// allowance in the chi2 increments; with it, only crossings up to that
@@ -105,7 +108,7 @@ class Follower {
   /// of the nearest predicted crossing.
   bool collectWith(const Chain& chain, std::vector<Candidate>& out,
                    ConfIndex excluded, const double* allowanceReach,
-                   double* nearest);
+                   double* nearest, double beyond);
 
   FinderState& m_state;
   const ConformalHits& m_hits;
@@ -146,6 +149,17 @@ void Follower::run(std::uint32_t t, StepStats& stats) {
       }
     }
     ConfIndex h = cands[choice].hit;
+    if (m_cuts.skipChi2 > 0.0 && cands[choice].chi2 > m_cuts.skipChi2) {
+      // A poor hit on the nearest layer: pass the layer by if the layers
+      // beyond have a hit better by more than a missing hit's charge.
+      const double sLast = m_inward ? 0.0 : chain.sz.lastS;
+      std::vector<Candidate>& later = m_work.later;
+      collect(chain, later, kInvalidIndex, std::abs(cands[choice].s - sLast));
+      if (!later.empty() &&
+          later.front().chi2 + kMissingHitChi2 < cands[choice].chi2) {
+        h = later.front().hit;
+      }
+    }
     attach(chain, h);
     claimHit(m_state, stats, h, t);
     added = true;
@@ -192,19 +206,19 @@ double Follower::lookahead(const Chain& chain, ConfIndex h, int depth) {
 }
 
 bool Follower::collect(const Chain& chain, std::vector<Candidate>& out,
-                       ConfIndex excluded) {
+                       ConfIndex excluded, double beyond) {
   double nearest = std::numeric_limits<double>::infinity();
-  bool predicted = collectWith(chain, out, excluded, nullptr, &nearest);
+  bool predicted = collectWith(chain, out, excluded, nullptr, &nearest, beyond);
   if (out.empty() && predicted && m_rules.scatteringAllowance) {
     const double reach = nearest + kScatterReach;
-    collectWith(chain, out, excluded, &reach, nullptr);
+    collectWith(chain, out, excluded, &reach, nullptr, beyond);
   }
   return predicted;
 }
 
 bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
                            ConfIndex excluded, const double* allowanceReach,
-                           double* nearest) {
+                           double* nearest, double beyond) {
   out.clear();
   const bool allowance = allowanceReach != nullptr;
   // The end of the chain being extended.
@@ -245,6 +259,9 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
     predicted = predicted || !predictions.empty();
     for (const Prediction& p : predictions) {
       double dist = std::abs(p.s - sLast);
+      if (dist <= beyond + 1e-6) {
+        continue;
+      }
       // (A crossing of the end hit's own layer right at the hit is not
       // the next layer.)
       if (nearest != nullptr && layer != m_hits.layer[last]) {
@@ -360,6 +377,7 @@ ExtensionCuts ExtensionCuts::fromStep(const FindingStep& step,
   c.lookahead = finder.extensionLookahead;
   c.hitChi2Ratio = finder.extensionHitChi2Ratio;
   c.hitChi2Floor = finder.extensionHitChi2Floor;
+  c.skipChi2 = finder.extensionSkipChi2;
   return c;
 }
 
@@ -406,6 +424,9 @@ void ExtensionCuts::validate(std::string_view unit,
   if (!(hitChi2Floor > 0.0 && hitChi2Floor <= 1e6)) {
     throwBadKey(unit, "extension_hit_chi2_floor", "must be in (0, 1e6]",
                 hitChi2Floor);
+  }
+  if (!(skipChi2 >= 0.0 && skipChi2 <= 1e6)) {
+    throwBadKey(unit, "extension_skip_chi2", "must be in [0, 1e6]", skipChi2);
   }
   if (lookahead < 0 || lookahead > kMaxLookahead) {
     throwBadKey(unit, "extension_lookahead", "must be in [0, 5]",

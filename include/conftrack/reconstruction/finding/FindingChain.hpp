@@ -295,6 +295,16 @@ struct FinderConfig {
   /// The smallest cut of extensionHitChi2Ratio: tracks that fit their hits
   /// well still take hits up to this chi2.
   double extensionHitChi2Floor = 100.0;
+  /// Extensions (outward and inward): where the best hit of the nearest
+  /// layer with candidates has a chi2 above this (as ranked, the scale of
+  /// extensionHitChi2Floor), the layers beyond are searched too, and the
+  /// track passes that layer by if their best hit's chi2 plus the charge
+  /// of a missing hit (16) is lower (0: off, the nearest layer's hit is
+  /// taken). The nearest layer is not always one the particle crossed:
+  /// a track predicted at a disk's inner edge or a sensor's border takes
+  /// a neighbour's or a noise hit there and misses its own hits further
+  /// on. A conftrack addition (issue 15; docs/algorithm.md 3.4).
+  double extensionSkipChi2 = 0.0;
   /// Use upstream's hard-coded 4 T in the pT estimate (for comparisons
   /// only; wrong for CLD).
   bool legacyFourTesla = false;

@@ -44,6 +44,10 @@ struct ExtensionCuts {
   /// extension_hit_chi2_ratio, 0: off, and extension_hit_chi2_floor).
   double hitChi2Ratio = 0.0;
   double hitChi2Floor = 100.0;
+  /// Above this chi2 (as ranked) the nearest layer's best hit is compared
+  /// with the best hit beyond that layer, which wins if lower by more than
+  /// a missing hit's charge (finder key extension_skip_chi2; 0: off).
+  double skipChi2 = 0.0;
 
   /// The largest chi2 of a candidate hit (as ranked) on a track with these
   /// fits; infinite when the cut is off.
@@ -89,6 +93,8 @@ struct FollowWorkspace {
   Chain chain;
   /// Compatible hits of the next crossing of the chain itself.
   std::vector<Candidate> candidates;
+  /// Compatible hits beyond the nearest layer (ExtensionCuts::skipChi2).
+  std::vector<Candidate> later;
   /// One level of the look-ahead: the chain with a tentative hit and the
   /// compatible hits beyond it.
   struct Level {
