@@ -131,10 +131,19 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
   }
   const std::vector<ConfIndex>& hits = track.hits;
   const ArcFrame arc = makeArcFrame(track.uv, m_hits, hits.front());
+  // Arc lengths, unwrapped hit by hit from the first, are taken only as
+  // far as a candidate needs them: most tracks have none (CLICdet's ideal
+  // layers: 5,250 candidates for 58,136 searched layers in two tt̄ + 30 BX
+  // events), and each costs an atan2.
   std::vector<double> hitS(hits.size(), 0.0);
-  for (std::size_t k = 1; k < hits.size(); ++k) {
-    hitS[k] = arc.hitArcLength(m_hits, hits[k], hitS[k - 1]);
-  }
+  std::size_t arcsKnown = 1;
+  auto arcLengthOf = [&](std::size_t k) {
+    for (; arcsKnown <= k; ++arcsKnown) {
+      hitS[arcsKnown] =
+          arc.hitArcLength(m_hits, hits[arcsKnown], hitS[arcsKnown - 1]);
+    }
+    return hitS[k];
+  };
   const double slope = std::abs(track.sz.tanLambda);
 
   std::vector<std::pair<ConfIndex, double>> added;
@@ -199,9 +208,9 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
     const double alongR =
         arcReach + kAlongSigmas * std::sqrt(m_hits.varRxy[a]) + kSidewaysMargin;
     m_window.clear();
-    // The scattering in a's sensor, the same for every candidate.
-    const double theta0 = layerTheta0(m_state.detector.layers()[layer],
-                                      track.pt * std::hypot(1.0, slope), slope);
+    // The scattering in a's sensor, the same for every candidate (taken at
+    // the first one).
+    double theta0 = std::numeric_limits<double>::quiet_NaN();
     m_pool.layerBox(layer, m_hits.phi[a], halfPhi, m_hits.z[a] - alongZ,
                     m_hits.z[a] + alongZ, r - alongR, r + alongR, m_window);
     candidates.clear();
@@ -210,11 +219,16 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
           onTrackSensor(h)) {
         continue;
       }
-      const double s = arc.hitArcLength(m_hits, h, hitS[k]);
-      if (!(std::abs(s - hitS[k]) <= arcReach + kSidewaysMargin)) {
+      const double sa = arcLengthOf(k);
+      const double s = arc.hitArcLength(m_hits, h, sa);
+      if (!(std::abs(s - sa) <= arcReach + kSidewaysMargin)) {
         continue;
       }
-      const double chi2 = pairChi2(track, a, hitS[k], h, s, theta0);
+      if (std::isnan(theta0)) {
+        theta0 = layerTheta0(m_state.detector.layers()[layer],
+                             track.pt * std::hypot(1.0, slope), slope);
+      }
+      const double chi2 = pairChi2(track, a, sa, h, s, theta0);
       if (!(chi2 <= m_config.maxChi2)) {
         continue;
       }
@@ -239,6 +253,7 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
 
   // Insert along the track and refit with the track's model; a track whose
   // fit fails with them keeps its hits.
+  arcLengthOf(hits.size() - 1);
   std::vector<std::pair<double, ConfIndex>> ordered;
   ordered.reserve(hits.size() + added.size());
   for (std::size_t k = 0; k < hits.size(); ++k) {
