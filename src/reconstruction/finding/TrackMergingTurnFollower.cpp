@@ -335,13 +335,15 @@ std::uint32_t TrackMerger::followTurns(std::span<const std::uint32_t> order,
       ConfIndex best = 0;
       bool bestIsNew = false;
       const auto consider = [&](ConfIndex h, bool isNew) {
-        const double arc = local.arc(xLast, yLast, m_hits.x[h], m_hits.y[h]);
-        if (!(arc > 0.0 && arc <= maxGap && travelled + arc <= reach)) {
-          return;
-        }
+        // The distance from the circle first, as in findSegment: it needs
+        // no arctangent, and most hits of the search box fail it.
         const double off = std::abs(
             norm2(m_hits.x[h] - local.cx, m_hits.y[h] - local.cy) - local.rho);
         if (!(off <= band)) {
+          return;
+        }
+        const double arc = local.arc(xLast, yLast, m_hits.x[h], m_hits.y[h]);
+        if (!(arc > 0.0 && arc <= maxGap && travelled + arc <= reach)) {
           return;
         }
         const double dz = m_hits.z[h] - (line.zLast + line.tanLambda * arc);
