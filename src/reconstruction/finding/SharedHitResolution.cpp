@@ -68,7 +68,9 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
     return betterCandidate(tracks[a], tracks[b]);
   });
   // The finder has no outliers: both rules see all of a track's hits.
-  SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits);
+  // Keys are the finder's hit indices: the rules' array storage.
+  SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits,
+                       state.hits.size());
   std::vector<std::uint64_t> keys;
   std::uint32_t dropped = 0;
   std::uint32_t trimmed = 0;
