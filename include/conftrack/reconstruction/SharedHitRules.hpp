@@ -11,15 +11,17 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
 namespace conftrack {
 
 /// Judges tracks in order, best first, against the tracks kept before them.
-/// Hits are integer keys (hit ids, or any index unique per hit).
+/// Hits are the event's hit indices (the finder's or the selection's),
+/// below the hit count given to the constructor: each hit's kept owners and
+/// whether a kept track holds it live in arrays indexed by hit, so that
+/// judging allocates nothing per hit (the finder judges every track after
+/// every step).
 class SharedHitRules {
  public:
   /// What judge() decided.
@@ -28,28 +30,26 @@ class SharedHitRules {
   /// cloneSharedHits: a track sharing this many hits with one kept track is
   /// its clone (0: no clone rule). minUniqueHits: a track sharing hits with
   /// kept tracks needs this many hits no kept track holds (0: no such
-  /// rule); a track that shares none is no ambiguity.
-  /// keyBound: if non-zero, every key is below it (the finder's hit
-  /// indices), and the hits' owners and claims are kept in arrays indexed by
-  /// key instead of hash tables, which allocated per hit (the finder judges
-  /// every track after every step: 4 % of a real TrackML event's
-  /// instructions); the verdicts are the same. judge() throws
-  /// std::out_of_range for a key at or above it.
+  /// rule); a track that shares none is no ambiguity. hitCount: every hit
+  /// index is below it.
   SharedHitRules(std::uint32_t cloneSharedHits, std::uint32_t minUniqueHits,
-                 std::size_t keyBound = 0);
+                 std::size_t hitCount);
 
   /// Judges the next track: `matched` are the hits the clone rule counts
   /// (the selection: those the fit used), `all` those the unique count
   /// sees (outliers included). A kept track is registered as `index`.
-  Verdict judge(std::span<const std::uint64_t> matched,
-                std::span<const std::uint64_t> all, std::uint32_t index);
+  /// Throws std::out_of_range for a hit index at or above the hit count.
+  Verdict judge(std::span<const std::uint32_t> matched,
+                std::span<const std::uint32_t> all, std::uint32_t index);
 
-  /// True if a kept track holds hit `id` (with minUniqueHits; always
+  /// True if a kept track holds hit `hit` (with minUniqueHits; always
   /// false without it).
-  bool claimed(std::uint64_t id) const;
+  bool claimed(std::uint32_t hit) const {
+    return hit < m_claimed.size() && m_claimed[hit] != 0;
+  }
 
  private:
-  /// No owner (end of an owner list of the array storage).
+  /// End of a hit's owner list.
   static constexpr std::uint32_t kNoLink = 0xffffffffu;
   /// One kept track holding a hit, and the next of that hit's list.
   struct OwnerLink {
@@ -57,29 +57,22 @@ class SharedHitRules {
     std::uint32_t next;
   };
 
-  /// Throws std::out_of_range unless key < keyBound (array storage).
-  void checkKey(std::uint64_t key) const;
+  /// Throws std::out_of_range unless hit is below the hit count.
+  void checkHit(std::uint32_t hit) const;
   /// The clone rule: whether `matched` shares cloneSharedHits hits with
   /// one kept track.
-  bool isClone(std::span<const std::uint64_t> matched);
+  bool isClone(std::span<const std::uint32_t> matched);
 
   std::uint32_t m_cloneSharedHits;
   std::uint32_t m_minUniqueHits;
-  std::size_t m_keyBound;
-  /// Array storage (keyBound > 0): per key the first link of its owner
-  /// list in m_links (kNoLink: none), and whether a kept track holds it.
+  /// Per hit the first link of its owner list in m_links (kNoLink: none).
   std::vector<std::uint32_t> m_firstOwner;
   std::vector<OwnerLink> m_links;
-  std::vector<std::uint8_t> m_claimedFlags;
-  /// Scratch of the array storage: (kept track, hits shared with it).
+  /// Per hit: held by a kept track (with minUniqueHits).
+  std::vector<std::uint8_t> m_claimed;
+  /// Scratch: (kept track, hits shared with it); a track shares hits with
+  /// few kept tracks, so a list searched linearly.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_sharedCounts;
-  /// Hash storage (keyBound 0):
-  /// Hit -> kept tracks whose matched hits hold it.
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> m_owners;
-  /// All hits of the kept tracks (with minUniqueHits).
-  std::unordered_set<std::uint64_t> m_claimed;
-  /// Scratch: hits shared with each kept track.
-  std::unordered_map<std::uint32_t, std::uint32_t> m_shared;
 };
 
 }  // namespace conftrack

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -210,7 +211,7 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
     m_window.clear();
     // The scattering in a's sensor, the same for every candidate (taken at
     // the first one).
-    double theta0 = std::numeric_limits<double>::quiet_NaN();
+    std::optional<double> theta0;
     m_pool.layerBox(layer, m_hits.phi[a], halfPhi, m_hits.z[a] - alongZ,
                     m_hits.z[a] + alongZ, r - alongR, r + alongR, m_window);
     candidates.clear();
@@ -224,11 +225,11 @@ std::uint32_t OverlapHitCollector::collect(std::uint32_t t) {
       if (!(std::abs(s - sa) <= arcReach + kSidewaysMargin)) {
         continue;
       }
-      if (std::isnan(theta0)) {
+      if (!theta0) {
         theta0 = layerTheta0(m_state.detector.layers()[layer],
                              track.pt * std::hypot(1.0, slope), slope);
       }
-      const double chi2 = pairChi2(track, a, sa, h, s, theta0);
+      const double chi2 = pairChi2(track, a, sa, h, s, *theta0);
       if (!(chi2 <= m_config.maxChi2)) {
         continue;
       }

@@ -68,10 +68,8 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
     return betterCandidate(tracks[a], tracks[b]);
   });
   // The finder has no outliers: both rules see all of a track's hits.
-  // Keys are the finder's hit indices: the rules' array storage.
   SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits,
                        state.hits.size());
-  std::vector<std::uint64_t> keys;
   std::uint32_t dropped = 0;
   std::uint32_t trimmed = 0;
   for (std::uint32_t t : order) {
@@ -79,13 +77,13 @@ std::uint32_t SharedHitResolution::run(FinderState& state) const {
     if (!track.alive) {
       continue;
     }
-    keys.assign(track.hits.begin(), track.hits.end());
-    bool keep = rules.judge(keys, keys, t) == SharedHitRules::Verdict::eKeep;
+    bool keep = rules.judge(track.hits, track.hits, t) ==
+                SharedHitRules::Verdict::eKeep;
     if (!keep && m_config.trimSharedHits &&
         trimTrack(state, rules, m_config.minUniqueHits, track)) {
       // Trimmed, it shares no hit: the rules keep it.
-      keys.assign(track.hits.begin(), track.hits.end());
-      keep = rules.judge(keys, keys, t) == SharedHitRules::Verdict::eKeep;
+      keep = rules.judge(track.hits, track.hits, t) ==
+             SharedHitRules::Verdict::eKeep;
       ++trimmed;
     }
     if (!keep) {

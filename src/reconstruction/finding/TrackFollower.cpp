@@ -78,6 +78,11 @@ class Follower {
   void run(std::uint32_t t, StepStats& stats);
 
  private:
+  /// Arc length of the end being followed (0 for the first hit).
+  double endArc(const Chain& chain) const {
+    return m_inward ? 0.0 : chain.sz.lastS;
+  }
+
   /// Adds h at the end being followed.
   void attach(Chain& chain, ConfIndex h) const {
     if (m_inward) {
@@ -152,9 +157,9 @@ void Follower::run(std::uint32_t t, StepStats& stats) {
     if (m_cuts.skipChi2 > 0.0 && cands[choice].chi2 > m_cuts.skipChi2) {
       // A poor hit on the nearest layer: pass the layer by if the layers
       // beyond have a hit better by more than a missing hit's charge.
-      const double sLast = m_inward ? 0.0 : chain.sz.lastS;
       std::vector<Candidate>& later = m_work.later;
-      collect(chain, later, kInvalidIndex, std::abs(cands[choice].s - sLast));
+      collect(chain, later, kInvalidIndex,
+              std::abs(cands[choice].s - endArc(chain)));
       if (!later.empty() &&
           later.front().chi2 + kMissingHitChi2 < cands[choice].chi2) {
         h = later.front().hit;
@@ -243,8 +248,7 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
   const double ts = 1.0 / szNorm;
   const double tz = sz.tanLambda / szNorm;
   const double rzCut = factor * m_cuts.maxCellAngleRZ;
-  // Arc length of the end being extended (0 for the first hit).
-  const double sLast = m_inward ? 0.0 : sz.lastS;
+  const double sLast = endArc(chain);
   const double chi2Cut = m_cuts.chi2CutAt(uv.pt(m_state.bzForPt));
   const double maxHitChi2 = m_cuts.maxHitChi2(uv, sz);
   bool predicted = false;

@@ -164,14 +164,20 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
                        }
                        return ids[a] < ids[b];
                      });
-    SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits);
-    std::vector<std::uint64_t> all;
+    // The rules count hits by index (checkTrackHits: in range, none twice
+    // on a track): the clone rule the fitted ones, the unique count all.
+    SharedHitRules rules(m_config.cloneSharedHits, m_config.minUniqueHits,
+                         hits.size());
+    std::vector<HitIndex> fitted;
     for (std::size_t i : candidates) {
-      all.clear();
-      for (HitIndex h : tracks[i].hits) {
-        all.push_back(hits[h].id);
+      const Track& track = tracks[i];
+      fitted.clear();
+      for (std::size_t k = 0; k < track.hits.size(); ++k) {
+        if (track.outlier[k] == 0) {
+          fitted.push_back(track.hits[k]);
+        }
       }
-      switch (rules.judge(ids[i], all, static_cast<std::uint32_t>(i))) {
+      switch (rules.judge(fitted, track.hits, static_cast<std::uint32_t>(i))) {
         case SharedHitRules::Verdict::eClone:
           ++result.clones;
           break;
