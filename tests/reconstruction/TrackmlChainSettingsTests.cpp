@@ -62,7 +62,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_EQ(helix.collections.size(), 6u);
   EXPECT_DOUBLE_EQ(helix.maxD0, 200.0);
   EXPECT_DOUBLE_EQ(helix.minPt, 0.15);
-  EXPECT_DOUBLE_EQ(helix.chi2Cut, 6.0);
+  EXPECT_DOUBLE_EQ(helix.chi2Cut, 8.0);  // 6 before stop 52's re-scan
   EXPECT_DOUBLE_EQ(helix.maxSeedLength, 150.0);
   EXPECT_DOUBLE_EQ(helix.maxSeedGap, 200.0);  // the outer pixel disks' gaps
   EXPECT_EQ(helix.maxMissedLayers, 0u);
@@ -96,7 +96,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
                 *detector.findSubdetector("ShortStripBarrel")});
   EXPECT_EQ(strips.collections.size(), 4u);
   EXPECT_EQ(strips.minHits, 5u);  // 5-hit tracks: the short-track rule
-  EXPECT_DOUBLE_EQ(strips.chi2Cut, 6.0);
+  EXPECT_DOUBLE_EQ(strips.chi2Cut, helix.chi2Cut);
   EXPECT_DOUBLE_EQ(strips.minPt, 0.15);
   EXPECT_EQ(strips.continueMissedLayers, 1u);
   EXPECT_DOUBLE_EQ(strips.continueChi2Cut, 18.0);
@@ -146,6 +146,12 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_TRUE(step("PixelShort").build);
   EXPECT_EQ(step("PixelShort").minHits, 3u);
   EXPECT_EQ(step("PixelShort").overlapPairBelowHits, 5u);
+  // Cuts re-scanned at stop 52 (TrackmlChain.CutsRescannedAtStop52...):
+  // PixelShort looser, PixelStrip tighter (its fakes at sigma_z 50 mm).
+  EXPECT_DOUBLE_EQ(step("PixelShort").chi2Cut, 3000.0);
+  EXPECT_DOUBLE_EQ(step("PixelShort").maxCellAngle, 0.03);
+  EXPECT_DOUBLE_EQ(step("PixelShort").maxCellAngleRZ, 0.015);
+  EXPECT_DOUBLE_EQ(step("PixelStrip").chi2Cut, 1500.0);
   EXPECT_DOUBLE_EQ(step("PixelShort").vertexWindow, 1.0);
   for (const FindingStep& s : c.steps) {
     EXPECT_TRUE(s.name == "PixelShort" || s.overlapPairBelowHits == 0)

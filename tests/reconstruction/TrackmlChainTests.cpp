@@ -33,6 +33,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -194,15 +195,14 @@ TEST(TrackmlChain, RzRestrictedSearchesFindTheSameHits) {
 /// real files' noise rate per sensor, pT > 0.15 GeV, seed 1, the real sensors
 /// of detectors.csv; with `region`, --luminous-region), reconstructed as
 /// `conftrack reconstruct
-/// --detector trackml` (the shipped detector file and its chain; with
-/// `fieldCorrection` false, its finder key field_correction off) and
-/// scored. `truncation`, if given, receives describeTruncation() of the
-/// finding steps: empty if no combinatorics guard bit.
-TrackmlScore scoreEvent1001(const char* label,
-                            std::optional<LuminousRegion::Config> region,
-                            bool fieldCorrection = true,
-                            bool helixFirstPass = true,
-                            std::string* truncation = nullptr) {
+/// --detector trackml` (the shipped detector file and its chain, changed
+/// by `adjust` if given) and scored. `truncation`, if given, receives
+/// describeTruncation() of the finding steps: empty if no combinatorics
+/// guard bit.
+TrackmlScore scoreEvent1001(
+    const char* label, std::optional<LuminousRegion::Config> region,
+    const std::function<void(Reconstruction::Config&)>& adjust = {},
+    std::string* truncation = nullptr) {
   const Event event = simulateTrackml(
       event1001Particles(), test::SampleNoise::eReal, std::move(region));
   EXPECT_GT(event.hits.size(), 90000u);
@@ -210,11 +210,8 @@ TrackmlScore scoreEvent1001(const char* label,
   const Detector detector = loadDetector("trackml");
   Reconstruction::Config recoConfig =
       readReconstructionConfig(resolveChainPath("trackml"), detector);
-  recoConfig.chain.fieldCorrection = fieldCorrection;
-  if (!helixFirstPass) {
-    for (FindingStep& step : recoConfig.chain.steps) {
-      step.firstPassMinHits = 0;
-    }
+  if (adjust) {
+    adjust(recoConfig);
   }
   const Reconstruction reco(detector, recoConfig);
   const auto t0 = std::chrono::steady_clock::now();
@@ -348,10 +345,47 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001WithHlLhcLength) {
   ASSERT_NE(hllhc, nullptr);
   std::string truncation;
   const TrackmlScore score =
-      scoreEvent1001("sigma_z 50 mm", hllhc->config, true, true, &truncation);
+      scoreEvent1001("sigma_z 50 mm", hllhc->config, {}, &truncation);
   EXPECT_GE(score.score, 0.851);
   EXPECT_LE(score.fakeRate, 0.05);
   EXPECT_EQ(truncation, "");
+}
+
+TEST(TrackmlChain, CutsRescannedAtStop52GainAtTheHlLhcLength) {
+  // The chain's cuts were scanned one at a time, each against the chain
+  // of its day; later steps changed what earlier ones leave, and at stop
+  // 52 five were scanned again on the five simulated events: the helix
+  // steps' chi2 cut per added hit 6 -> 8, PixelStrip's chi2 cut 3000 ->
+  // 1500 (at sigma_z = 50 mm it built 46 fake tracks per event against 10
+  // at 5.5 mm), PixelShort's chi2 cut 1000 -> 3000 and cell angles 0.02 /
+  // 0.005 -> 0.03 / 0.015. Five events, sigma_z 5.5 / 50 mm: 0.8902 /
+  // 0.8815 -> 0.8925 / 0.8850 (chains/trackml.toml has each scan). Here
+  // event 1001 at the HL-LHC length, the shipped chain against those
+  // cuts put back: measured 0.8872 -> 0.8894, fake rate 0.0245 -> 0.0297.
+  // Guarded: +0.001, and the fake rate within issue 15's 5 %.
+  const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
+  ASSERT_NE(hllhc, nullptr);
+  const TrackmlScore now = scoreEvent1001("sigma_z 50 mm", hllhc->config);
+  const TrackmlScore before = scoreEvent1001(
+      "sigma_z 50 mm, the cuts before stop 52", hllhc->config,
+      [](Reconstruction::Config& c) {
+        for (FindingStep& step : c.chain.steps) {
+          if (step.name == "Helix" || step.name == "HelixStrips") {
+            ASSERT_DOUBLE_EQ(step.chi2Cut, 8.0);
+            step.chi2Cut = 6.0;
+          } else if (step.name == "PixelStrip") {
+            ASSERT_DOUBLE_EQ(step.chi2Cut, 1500.0);
+            step.chi2Cut = 3000.0;
+          } else if (step.name == "PixelShort") {
+            ASSERT_DOUBLE_EQ(step.chi2Cut, 3000.0);
+            step.chi2Cut = 1000.0;
+            step.maxCellAngle = 0.02;
+            step.maxCellAngleRZ = 0.005;
+          }
+        }
+      });
+  EXPECT_GE(now.score, before.score + 0.001);
+  EXPECT_LE(now.fakeRate, 0.05);
 }
 
 TEST(TrackmlChain, FieldCorrectionRecoversTheForwardHits) {
@@ -378,7 +412,8 @@ TEST(TrackmlChain, FieldCorrectionRecoversTheForwardHits) {
   // short-track rule; 0.7547 and 0.7922 before the chain's helix steps).
   const TrackmlScore with = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
   const TrackmlScore without = scoreEvent1001(
-      "sigma_z 5.5 mm, no field correction", std::nullopt, false);
+      "sigma_z 5.5 mm, no field correction", std::nullopt,
+      [](Reconstruction::Config& c) { c.chain.fieldCorrection = false; });
   EXPECT_GE(with.score - without.score, 0.015);
 }
 
@@ -404,7 +439,11 @@ TEST(TrackmlChain, LongHelixCandidatesClaimTheirHitsFirst) {
   const TrackmlScore with = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
   const TrackmlScore without =
       scoreEvent1001("sigma_z 5.5 mm, helix candidates claiming at once",
-                     std::nullopt, true, false);
+                     std::nullopt, [](Reconstruction::Config& c) {
+                       for (FindingStep& step : c.chain.steps) {
+                         step.firstPassMinHits = 0;
+                       }
+                     });
   EXPECT_LE(with.fakeRate, without.fakeRate - 0.001);
   EXPECT_GE(with.score, without.score);
 }
