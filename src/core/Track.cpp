@@ -25,6 +25,15 @@ void Track::takeFit(const Track& fitted) {
   ndf = fitted.ndf;
 }
 
+void Track::fittedHits(std::vector<HitIndex>& out) const {
+  out.clear();
+  for (std::size_t k = 0; k < hits.size(); ++k) {
+    if (outlier[k] == kFittedHit) {
+      out.push_back(hits[k]);
+    }
+  }
+}
+
 std::uint32_t Track::numMeasurements() const {
   return static_cast<std::uint32_t>(hits.size()) - numOutliers() -
          numTurnHits();

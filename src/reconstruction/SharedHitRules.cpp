@@ -16,18 +16,19 @@ SharedHitRules::SharedHitRules(std::uint32_t cloneSharedHits,
       m_firstOwner(hitCount, kNoLink),
       m_claimed(hitCount, 0) {}
 
-void SharedHitRules::checkHit(std::uint32_t hit) const {
-  if (hit >= m_firstOwner.size()) {
-    throw std::out_of_range("SharedHitRules: hit index " + std::to_string(hit) +
-                            " not below the hit count " +
-                            std::to_string(m_firstOwner.size()));
+void SharedHitRules::checkHits(std::span<const std::uint32_t> hits) const {
+  for (std::uint32_t hit : hits) {
+    if (hit >= m_firstOwner.size()) {
+      throw std::out_of_range(
+          "SharedHitRules: hit index " + std::to_string(hit) +
+          " not below the hit count " + std::to_string(m_firstOwner.size()));
+    }
   }
 }
 
 bool SharedHitRules::isClone(std::span<const std::uint32_t> matched) {
   m_sharedCounts.clear();
   for (std::uint32_t hit : matched) {
-    checkHit(hit);
     for (std::uint32_t link = m_firstOwner[hit]; link != kNoLink;
          link = m_links[link].next) {
       const std::uint32_t owner = m_links[link].owner;
@@ -47,6 +48,9 @@ bool SharedHitRules::isClone(std::span<const std::uint32_t> matched) {
 SharedHitRules::Verdict SharedHitRules::judge(
     std::span<const std::uint32_t> matched, std::span<const std::uint32_t> all,
     std::uint32_t index) {
+  // Checked once here; the loops below index the arrays directly.
+  checkHits(matched);
+  checkHits(all);
   if (m_cloneSharedHits > 0 && isClone(matched)) {
     return Verdict::eClone;
   }
@@ -56,7 +60,6 @@ SharedHitRules::Verdict SharedHitRules::judge(
     // off by one wrong hit flags many good ones).
     std::size_t unique = 0;
     for (std::uint32_t hit : all) {
-      checkHit(hit);
       unique += m_claimed[hit] != 0 ? 0 : 1;
     }
     // A track that shares no hit is no ambiguity (minHits judges it).
@@ -68,7 +71,6 @@ SharedHitRules::Verdict SharedHitRules::judge(
     }
   }
   for (std::uint32_t hit : matched) {
-    checkHit(hit);
     m_links.push_back({index, m_firstOwner[hit]});
     m_firstOwner[hit] = static_cast<std::uint32_t>(m_links.size() - 1);
   }

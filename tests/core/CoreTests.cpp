@@ -2,11 +2,13 @@
 #include "conftrack/core/Error.hpp"
 #include "conftrack/core/Event.hpp"
 #include "conftrack/core/Random.hpp"
+#include "conftrack/core/Track.hpp"
 #include "conftrack/core/Units.hpp"
 
 #include <gtest/gtest.h>
 
 #include <set>
+#include <vector>
 
 namespace conftrack {
 namespace {
@@ -46,6 +48,16 @@ TEST(Event, FindParticle) {
   EXPECT_EQ(ev.findParticle(2), 0u);
   EXPECT_EQ(ev.findParticle(9), 2u);
   EXPECT_EQ(ev.findParticle(4), kInvalidIndex);
+}
+
+TEST(Track, FittedHitsLeaveOutliersAndTurnHits) {
+  Track t;
+  t.hits = {7, 3, 9, 4, 12};
+  t.outlier = {kFittedHit, kOutlierHit, kFittedHit, kTurnHit, kFittedHit};
+  std::vector<HitIndex> fitted = {99};  // cleared first
+  t.fittedHits(fitted);
+  EXPECT_EQ(fitted, (std::vector<HitIndex>{7, 9, 12}));
+  EXPECT_EQ(fitted.size(), t.numMeasurements());
 }
 
 TEST(ConfigTable, TypedGettersAndErrors) {

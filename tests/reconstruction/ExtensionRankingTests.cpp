@@ -97,9 +97,9 @@ TEST(ExtensionRanking, HitsFarBeyondTheFitQualityDoNotEndTracks) {
   // then failed. Counted over all tracks: hits of the track's majority
   // particle (own) and the others (foreign, noise included). Measured: own
   // 68873 with the cut against 68824 without, foreign 3791 against 3904
-  // (-2.9 %) with the cuts of stop 52 (more helix and PixelShort tracks;
-  // the TrackML score of the five events 0.8917 / 0.8843 without the cut,
-  // 0.8925 / 0.8850 with it, sigma_z 5.5 / 50 mm); 68459 / 68331, 3462 /
+  // (-2.9 %) with the chain's cuts of stop 52 (the TrackML score of the
+  // five events 0.8917 / 0.8843 without the cut, 0.8925 / 0.8850 with it,
+  // sigma_z 5.5 / 50 mm); 68459 / 68331, 3462 /
   // 3651 (-5.2 %) before them, with the shared-hit resolution after every
   // step (68135 /
   // 67990, 3468 / 3650 before it, with the PixelShort step; 67940 / 67795,

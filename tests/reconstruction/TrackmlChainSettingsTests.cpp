@@ -146,8 +146,9 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_TRUE(step("PixelShort").build);
   EXPECT_EQ(step("PixelShort").minHits, 3u);
   EXPECT_EQ(step("PixelShort").overlapPairBelowHits, 5u);
-  // Cuts re-scanned at stop 52 (TrackmlChain.CutsRescannedAtStop52...):
-  // PixelShort looser, PixelStrip tighter (its fakes at sigma_z 50 mm).
+  // Cuts re-scanned at stop 52 (their effect:
+  // TrackmlChain.CutsRescannedAtStop52GainAtTheHlLhcLength): PixelShort
+  // looser, PixelStrip tighter (its fakes at sigma_z 50 mm).
   EXPECT_DOUBLE_EQ(step("PixelShort").chi2Cut, 3000.0);
   EXPECT_DOUBLE_EQ(step("PixelShort").maxCellAngle, 0.03);
   EXPECT_DOUBLE_EQ(step("PixelShort").maxCellAngleRZ, 0.015);

@@ -366,9 +366,12 @@ TEST(TrackmlChain, CutsRescannedAtStop52GainAtTheHlLhcLength) {
   const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
   ASSERT_NE(hllhc, nullptr);
   const TrackmlScore now = scoreEvent1001("sigma_z 50 mm", hllhc->config);
+  // Every changed step must be found and put back, or the comparison
+  // would measure less than the change.
+  std::size_t restored = 0;
   const TrackmlScore before = scoreEvent1001(
       "sigma_z 50 mm, the cuts before stop 52", hllhc->config,
-      [](Reconstruction::Config& c) {
+      [&](Reconstruction::Config& c) {
         for (FindingStep& step : c.chain.steps) {
           if (step.name == "Helix" || step.name == "HelixStrips") {
             ASSERT_DOUBLE_EQ(step.chi2Cut, 8.0);
@@ -381,9 +384,13 @@ TEST(TrackmlChain, CutsRescannedAtStop52GainAtTheHlLhcLength) {
             step.chi2Cut = 1000.0;
             step.maxCellAngle = 0.02;
             step.maxCellAngleRZ = 0.005;
+          } else {
+            continue;
           }
+          ++restored;
         }
       });
+  EXPECT_EQ(restored, 4u);
   EXPECT_GE(now.score, before.score + 0.001);
   EXPECT_LE(now.fakeRate, 0.05);
 }

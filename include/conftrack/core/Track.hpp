@@ -75,6 +75,9 @@ struct Track {
   std::uint32_t numOutliers() const;
   /// Number of a looper's further-turn hits (kTurnHit).
   std::uint32_t numTurnHits() const;
+  /// The hits of the fit (kFittedHit), in track order, into `out`
+  /// (cleared first; a buffer the caller reuses).
+  void fittedHits(std::vector<HitIndex>& out) const;
   /// Takes the result of `fitted`, a fit of this track's leading hits (in
   /// the same order): its outlier flags for those hits, its states, chi2,
   /// ndf and status. Hits beyond (a looper's further turns) keep theirs;

@@ -57,8 +57,8 @@ class SharedHitRules {
     std::uint32_t next;
   };
 
-  /// Throws std::out_of_range unless hit is below the hit count.
-  void checkHit(std::uint32_t hit) const;
+  /// Throws std::out_of_range unless every hit is below the hit count.
+  void checkHits(std::span<const std::uint32_t> hits) const;
   /// The clone rule: whether `matched` shares cloneSharedHits hits with
   /// one kept track.
   bool isClone(std::span<const std::uint32_t> matched);

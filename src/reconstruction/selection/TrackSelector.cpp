@@ -38,15 +38,15 @@ void checkTrackHits(std::span<const Hit> hits, const Track& track,
 }
 
 /// Sorted ids of the hits used in the fit (outliers excluded); the track
-/// passed checkTrackHits.
+/// passed checkTrackHits. `fitted`: scratch.
 std::vector<std::uint64_t> usedHitIds(std::span<const Hit> hits,
-                                      const Track& track) {
+                                      const Track& track,
+                                      std::vector<HitIndex>& fitted) {
+  track.fittedHits(fitted);
   std::vector<std::uint64_t> ids;
-  ids.reserve(track.hits.size());
-  for (std::size_t i = 0; i < track.hits.size(); ++i) {
-    if (track.outlier[i] == 0) {
-      ids.push_back(hits[track.hits[i]].id);
-    }
+  ids.reserve(fitted.size());
+  for (const HitIndex h : fitted) {
+    ids.push_back(hits[h].id);
   }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
@@ -132,7 +132,7 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
       ++result.unfitted;
       continue;
     }
-    ids[i] = usedHitIds(hits, tracks[i]);
+    ids[i] = usedHitIds(hits, tracks[i], scratch);
     if (ids[i].size() < m_config.minHits) {
       ++result.tooFewHits;
       continue;
@@ -170,14 +170,9 @@ SelectionResult TrackSelector::run(std::span<const Hit> hits,
                          hits.size());
     std::vector<HitIndex> fitted;
     for (std::size_t i : candidates) {
-      const Track& track = tracks[i];
-      fitted.clear();
-      for (std::size_t k = 0; k < track.hits.size(); ++k) {
-        if (track.outlier[k] == 0) {
-          fitted.push_back(track.hits[k]);
-        }
-      }
-      switch (rules.judge(fitted, track.hits, static_cast<std::uint32_t>(i))) {
+      tracks[i].fittedHits(fitted);
+      switch (
+          rules.judge(fitted, tracks[i].hits, static_cast<std::uint32_t>(i))) {
         case SharedHitRules::Verdict::eClone:
           ++result.clones;
           break;
