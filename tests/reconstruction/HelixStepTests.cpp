@@ -2,6 +2,7 @@
 // keys, and what it adds on the CLICdet displaced-muon sample.
 
 #include "conftrack/core/Error.hpp"
+#include "conftrack/core/Units.hpp"
 #include "conftrack/evaluation/TruthMatching.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
@@ -114,6 +115,45 @@ TEST(HelixStep, KeysAreValidated) {
                 .find("max_seed_gap_mm"),
             std::string::npos);
   EXPECT_EQ(ok.steps[0].maxSeedGap, 0.0);
+  // seed_length_per_gap: a bound above max_seed_length_mm with it, none
+  // without it.
+  EXPECT_EQ(ok.steps[0].seedLengthPerGap, 0.0);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "seed_length_per_gap = 2.0\n")
+                .find("seed_length_per_gap_max_mm"),
+            std::string::npos);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "seed_length_per_gap = 2.0\n"
+                       "seed_length_per_gap_max_mm = 400.0\n")
+                .find("above max_seed_length_mm"),
+            std::string::npos);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "seed_length_per_gap_max_mm = 600.0\n")
+                .find("needs seed_length_per_gap"),
+            std::string::npos);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "seed_length_per_gap = -1.0\n")
+                .find("seed_length_per_gap"),
+            std::string::npos);
+  const FinderConfig perGap =
+      parseChain(helixStep("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                           "seed_length_per_gap = 2.0\n"
+                           "seed_length_per_gap_max_mm = 600.0\n"),
+                 "chain.toml", clicdet());
+  EXPECT_DOUBLE_EQ(perGap.steps[0].seedLengthPerGap, 2.0);
+  EXPECT_DOUBLE_EQ(perGap.steps[0].maxSeedLengthPerGap, 600.0 * units::mm);
+  std::string build = helixStep(
+      "max_seed_length_mm = 400.0\nseed_length_per_gap = 2.0\n"
+      "seed_length_per_gap_max_mm = 600.0\n");
+  build.replace(build.find("\"helix\""), 7, "\"build\"");
+  try {
+    parseChain(build, "chain.toml", clicdet());
+    ADD_FAILURE() << "seed_length_per_gap accepted on a build step";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("only a helix step"),
+              std::string::npos)
+        << e.what();
+  }
   // inward_collections: a helix step's, known subdetectors, once each.
   EXPECT_TRUE(ok.steps[0].inwardCollections.empty());
   const FinderConfig inward = parseChain(
@@ -351,6 +391,64 @@ TEST(HelixStep, AdjacentLayersBeyondTheSeedLengthPairWithMaxSeedGap) {
   EXPECT_EQ(plainTracks, 0u);
   EXPECT_GE(found, kEvents * 9 / 10);
   EXPECT_EQ(skipped, 0u);
+}
+
+TEST(HelixStep, SeedLengthPerGapKeepsThePolarReachOfWideLayerPairs) {
+  // Prompt 5 GeV muons at 42-46 degrees (|dz/dr| 0.97-1.11) through
+  // CLICdet's tracker barrels (127, 340, 554, 817 and 1151 mm) with
+  // 280 mm seeds: between layers 213 mm apart such a segment reaches
+  // |dz/dr| 0.85 only, so no triplet is made and the step finds nothing.
+  // With seed_length_per_gap = 2 up to 450 mm the inner-tracker pairs get
+  // 426 and 428 mm (|dz/dr| up to 1.7) and the muons are found; the
+  // 263 mm pair (526 mm, beyond the bound) keeps 280 mm. With the bound
+  // at 400 mm no pair is scaled and nothing is found again.
+  const std::string keys =
+      "max_seed_length_mm = 280.0\nmin_pt_GeV = 0.5\nmax_missed_layers = 0\n";
+  const std::string collections =
+      "\"InnerTrackerBarrel\", \"OuterTrackerBarrel\"";
+  const ConformalTrackFinder plain = helixFinder(keys, collections);
+  const ConformalTrackFinder scaled = helixFinder(
+      keys + "seed_length_per_gap = 2.0\nseed_length_per_gap_max_mm = 450.0\n",
+      collections);
+  const ConformalTrackFinder bounded = helixFinder(
+      keys + "seed_length_per_gap = 2.0\nseed_length_per_gap_max_mm = 400.0\n",
+      collections);
+  const EventSimulation sim =
+      muonGun(23, "p_GeV = 5.0\ntheta_min_deg = 42.0\ntheta_max_deg = 46.0\n");
+  const Detector& det = clicdet();
+  const auto it = det.findSubdetector("InnerTrackerBarrel");
+  const auto ot = det.findSubdetector("OuterTrackerBarrel");
+  ASSERT_TRUE(it.has_value() && ot.has_value());
+  constexpr std::size_t kEvents = 40;
+  std::size_t plainTracks = 0;
+  std::size_t boundedTracks = 0;
+  std::size_t scaledTracks = 0;
+  std::size_t found = 0;
+  for (std::size_t e = 0; e < kEvents; ++e) {
+    const Event ev = sim.simulate(e + 1);
+    plainTracks += plain.run(ev.hits).tracks.size();
+    boundedTracks += bounded.run(ev.hits).tracks.size();
+    std::size_t muonHits = 0;  // on the tracker barrels
+    for (HitIndex h = 0; h < ev.hits.size(); ++h) {
+      const auto sub = ev.hits[h].detId.subdetector;
+      muonHits +=
+          ev.truth[h].particleId != 0 && (sub == *it || sub == *ot) ? 1 : 0;
+    }
+    const FindingResult r = scaled.run(ev.hits);
+    scaledTracks += r.tracks.size();
+    for (const FoundTrack& t : r.tracks) {
+      found += t.hits.size() >= 4 && t.hits.size() + 1 >= muonHits ? 1 : 0;
+    }
+  }
+  std::printf(
+      "[ 5 GeV muons at 42-46 degrees, 280 mm seeds ] %zu tracks; with "
+      "seed_length_per_gap 2 up to 450 mm %zu tracks, %zu of %zu muons "
+      "found whole; up to 400 mm %zu tracks\n",
+      plainTracks, scaledTracks, found, kEvents, boundedTracks);
+  EXPECT_EQ(plainTracks, 0u);
+  EXPECT_EQ(boundedTracks, 0u);
+  EXPECT_GE(found, kEvents * 9 / 10);
+  EXPECT_LE(scaledTracks, kEvents);
 }
 
 TEST(HelixStep, PathsEndAfterHalfATurn) {

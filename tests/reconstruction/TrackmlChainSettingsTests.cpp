@@ -154,6 +154,13 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(step("PixelShort").maxCellAngleRZ, 0.015);
   EXPECT_DOUBLE_EQ(step("PixelStrip").chi2Cut, 1500.0);
   EXPECT_DOUBLE_EQ(step("PixelShort").vertexWindow, 1.0);
+  // Strip seeds reach twice the distance of layers up to 300 mm apart
+  // (TrackmlChain.StripSeedsBetweenWiderLayersReachTheSamePolarAngles);
+  // the pixel helix step keeps one length.
+  EXPECT_DOUBLE_EQ(step("HelixStrips").maxSeedLength, 200.0);
+  EXPECT_DOUBLE_EQ(step("HelixStrips").seedLengthPerGap, 2.0);
+  EXPECT_DOUBLE_EQ(step("HelixStrips").maxSeedLengthPerGap, 300.0);
+  EXPECT_DOUBLE_EQ(step("Helix").seedLengthPerGap, 0.0);
   for (const FindingStep& s : c.steps) {
     EXPECT_TRUE(s.name == "PixelShort" || s.overlapPairBelowHits == 0)
         << s.name;

@@ -235,7 +235,11 @@ TrackmlScore scoreEvent1001(
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   const TrackmlScore score = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
-  // Measured 0.8929, fake rate 0.017 since the finder's shared-hit
+  // Measured 0.9003, fake rate 0.0225 since HelixStrips' seeds reach
+  // twice the distance of layers up to 300 mm apart (seed_length_per_gap,
+  // StripSeedsBetweenWiderLayersReachTheSamePolarAngles below; 0.8977 and
+  // 0.019 before, with the changes of docs/algorithm.md 8 since the
+  // following); 0.8929, fake rate 0.017 since the finder's shared-hit
   // resolution runs after every step and the second pass after the
   // selection runs PixelShort again (docs/algorithm.md 3.13, 3.21; 0.8891
   // and 0.019 with the resolution after the last step only and Helix too
@@ -391,6 +395,35 @@ TEST(TrackmlChain, CutsRescannedAtStop52GainAtTheHlLhcLength) {
         }
       });
   EXPECT_EQ(restored, 4u);
+  EXPECT_GE(now.score, before.score + 0.001);
+  EXPECT_LE(now.fakeRate, 0.05);
+}
+
+TEST(TrackmlChain, StripSeedsBetweenWiderLayersReachTheSamePolarAngles) {
+  // HelixStrips seeds are at most 200 mm long, which between the
+  // short-strip barrel layers at 360 and 500 mm allows |dz/dr| up to 1.0
+  // only (1.7 between 260 and 360 mm): the first strip triplet of a
+  // secondary from the pixel volume was cut at |eta| 0.9. With
+  // seed_length_per_gap = 2 up to 300 mm that pair reaches 280 mm. Five
+  // events, sigma_z 5.5 / 50 mm: 0.8925 / 0.8850 -> 0.8946 / 0.8874.
+  // Here event 1001 at 5.5 mm without the key: measured 0.8977 -> 0.9003,
+  // fake rate 0.0194 -> 0.0225.
+  // Guarded: +0.001, and the fake rate within issue 15's 5 %.
+  const TrackmlScore now = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
+  std::size_t restored = 0;
+  const TrackmlScore before =
+      scoreEvent1001("sigma_z 5.5 mm, 200 mm strip seeds on every pair",
+                     std::nullopt, [&](Reconstruction::Config& c) {
+                       for (FindingStep& step : c.chain.steps) {
+                         if (step.name == "HelixStrips") {
+                           ASSERT_DOUBLE_EQ(step.seedLengthPerGap, 2.0);
+                           step.seedLengthPerGap = 0.0;
+                           step.maxSeedLengthPerGap = 0.0;
+                           ++restored;
+                         }
+                       }
+                     });
+  EXPECT_EQ(restored, 1u);
   EXPECT_GE(now.score, before.score + 0.001);
   EXPECT_LE(now.fakeRate, 0.05);
 }

@@ -124,6 +124,11 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
               // 0: no pairs beyond max_seed_length_mm.
               {"max_seed_gap_mm", s.maxSeedGap, mm,
                Range::closed(0.0, 100000.0)},
+              // 0: max_seed_length_mm on every pair.
+              {"seed_length_per_gap", s.seedLengthPerGap, one,
+               Range::closed(0.0, 100.0)},
+              {"seed_length_per_gap_max_mm", s.maxSeedLengthPerGap, mm,
+               Range::closed(0.0, 100000.0)},
               {"max_seed_cells", static_cast<double>(s.maxSeedCells), one,
                Range::closed(0, 1e6)},
               // 0: only the finder's max_paths_per_seed.
@@ -157,6 +162,19 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
     return problem("max_seed_length_mm",
                    "required by the \"helix\" action (it bounds the seed "
                    "search)");
+  }
+  if (s.seedLengthPerGap > 0.0 && !s.helix) {
+    return problem("seed_length_per_gap",
+                   "only a helix step reads it (0: off)");
+  }
+  if (s.seedLengthPerGap > 0.0 && !(s.maxSeedLengthPerGap > s.maxSeedLength)) {
+    return problem("seed_length_per_gap_max_mm",
+                   "required with seed_length_per_gap, above "
+                   "max_seed_length_mm");
+  }
+  if (s.seedLengthPerGap == 0.0 && s.maxSeedLengthPerGap != 0.0) {
+    return problem("seed_length_per_gap_max_mm",
+                   "needs seed_length_per_gap (> 0)");
   }
   if (s.continueChi2Cut > 0.0 && s.continueChi2Cut < s.chi2Cut) {
     return problem("continue_chi2_cut",

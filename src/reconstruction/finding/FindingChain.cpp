@@ -111,6 +111,10 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
       t.getBool("vertex_prepass_free_hits", s.vertexPrepassFreeHits);
   s.maxSeedLength = quantity(t, "max_seed_length_mm", mm, s.maxSeedLength);
   s.maxSeedGap = quantity(t, "max_seed_gap_mm", mm, s.maxSeedGap);
+  s.seedLengthPerGap =
+      quantity(t, "seed_length_per_gap", one, s.seedLengthPerGap);
+  s.maxSeedLengthPerGap =
+      quantity(t, "seed_length_per_gap_max_mm", mm, s.maxSeedLengthPerGap);
   s.maxSeedCells = count(t, "max_seed_cells", s.maxSeedCells);
   s.maxPaths = count(t, "max_paths", s.maxPaths);
   s.maxCellsPerHit = count(t, "max_cells_per_hit", s.maxCellsPerHit);

@@ -37,7 +37,9 @@ HelixSeeds::HelixSeeds(const FinderState& state, const FindingStep& step,
   // The pool's layers within maxSeedLength of each layer: the only ones
   // a seed looks at. Adjacent layers up to maxSeedGap apart pair too, a
   // segment between them reaching maxSeedLength beyond their distance
-  // (FindingStep::maxSeedGap).
+  // (FindingStep::maxSeedGap). Pairs within the seed length reach the
+  // length scaled with their distance where that lies between the two
+  // bounds (FindingStep::seedLengthPerGap).
   const std::vector<std::uint32_t>& layers = m_pool.layers();
   const std::size_t n = m_layers.size();
   m_near.resize(n);
@@ -47,6 +49,10 @@ HelixSeeds::HelixSeeds(const FinderState& state, const FindingStep& step,
       const double gap = layerDistance(m_layers[a], m_layers[b]);
       if (gap <= step.maxSeedLength) {
         m_near[a].push_back(b);
+        const double scaled = step.seedLengthPerGap * gap;
+        if (scaled > step.maxSeedLength && scaled <= step.maxSeedLengthPerGap) {
+          m_seedLength[a * n + b] = scaled;
+        }
       } else if (gap <= step.maxSeedGap && adjacent(a, b, gap)) {
         m_near[a].push_back(b);
         m_seedLength[a * n + b] = norm2(step.maxSeedLength, gap);

@@ -131,6 +131,20 @@ struct FindingStep {
   /// wider than the seed length (TrackML's outer pixel disks, 200 mm
   /// apart) could not be seeded at all.
   double maxSeedGap = 0.0;
+  /// Helix steps: two layers within maxSeedLength of each other pair over
+  /// a seed segment up to this factor times their distance [1], where
+  /// that is longer than maxSeedLength but at most
+  /// maxSeedLengthPerGap (0, the default: maxSeedLength on every
+  /// pair). A length limit is also a slope limit that tightens as the
+  /// layers part: between barrel layers 100 mm apart, 200 mm seeds reach
+  /// |dz/dr| = 1.7, between layers 140 mm apart only 1.0. With the factor
+  /// the same polar angles pair on every layer pair whose scaled length
+  /// stays within the bound (algorithm.md 3.8).
+  double seedLengthPerGap = 0.0;
+  /// With seedLengthPerGap: the longest scaled seed segment [mm]; pairs
+  /// whose scaled length exceeds it keep maxSeedLength (the triplets of
+  /// a seed grow with the square of its length).
+  double maxSeedLengthPerGap = 0.0;
   /// At most this many seed cells per seed, to its nearest neighbours (in
   /// the conformal plane with radial search, in azimuth otherwise) that
   /// pass the seed-cell cuts (0: all, as upstream). The paper seeds cells

@@ -31,7 +31,8 @@ struct HelixTriplet {
 /// triplets of unused hits on consecutive layers (the straight line
 /// between two seed hits must not pass well inside another layer), each
 /// within maxSeedLength of the previous one (further between adjacent
-/// layers up to maxSeedGap apart) and further out (larger radius on a
+/// layers up to maxSeedGap apart, and with seedLengthPerGap between
+/// layers whose scaled distance exceeds it) and further out (larger radius on a
 /// barrel layer, larger |z| on a disk). The third hit is searched only
 /// around the doublet's chord extended to the next layer, as wide as a
 /// track of pT >= minPt can bend. The circle through the three, with no
@@ -110,7 +111,7 @@ class HelixSeeds {
   std::vector<std::vector<std::uint32_t>> m_near;
   /// Per pair of detector layers (a * layers + b): the longest seed
   /// segment between them (maxSeedLength, more between adjacent layers
-  /// further apart).
+  /// further apart and with seedLengthPerGap).
   std::vector<double> m_seedLength;
 };
 
