@@ -160,6 +160,8 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(step("HelixStrips").maxSeedLength, 200.0);
   EXPECT_DOUBLE_EQ(step("HelixStrips").seedLengthPerGap, 2.0);
   EXPECT_DOUBLE_EQ(step("HelixStrips").maxSeedLengthPerGap, 300.0);
+  // Its 6-hit candidates claim in the first pass (Helix: 8 hits).
+  EXPECT_EQ(step("HelixStrips").firstPassMinHits, 6u);
   EXPECT_DOUBLE_EQ(step("Helix").seedLengthPerGap, 0.0);
   for (const FindingStep& s : c.steps) {
     EXPECT_TRUE(s.name == "PixelShort" || s.overlapPairBelowHits == 0)
