@@ -233,6 +233,25 @@ TrackmlScore scoreEvent1001(
   return score;
 }
 
+/// scoreEvent1001 with the shipped chain's step `name`, which must exist
+/// once, changed by `adjust` (which checks the shipped value first).
+TrackmlScore scoreEvent1001WithStep(
+    const char* label, std::optional<LuminousRegion::Config> region,
+    const std::string& name, const std::function<void(FindingStep&)>& adjust) {
+  std::size_t changed = 0;
+  const TrackmlScore score =
+      scoreEvent1001(label, std::move(region), [&](Reconstruction::Config& c) {
+        for (FindingStep& step : c.chain.steps) {
+          if (step.name == name) {
+            adjust(step);
+            ++changed;
+          }
+        }
+      });
+  EXPECT_EQ(changed, 1u) << name;
+  return score;
+}
+
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   const TrackmlScore score = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
   // Measured 0.9007, fake rate 0.0238 since HelixStrips' 6-hit candidates
@@ -414,20 +433,13 @@ TEST(TrackmlChain, StripSeedsBetweenWiderLayersReachTheSamePolarAngles) {
   // first_pass_min_hits 7).
   // Guarded: +0.001, and the fake rate within issue 15's 5 %.
   const TrackmlScore now = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
-  std::size_t restored = 0;
-  const TrackmlScore before =
-      scoreEvent1001("sigma_z 5.5 mm, 200 mm strip seeds on every pair",
-                     std::nullopt, [&](Reconstruction::Config& c) {
-                       for (FindingStep& step : c.chain.steps) {
-                         if (step.name == "HelixStrips") {
-                           ASSERT_DOUBLE_EQ(step.seedLengthPerGap, 2.0);
-                           step.seedLengthPerGap = 0.0;
-                           step.maxSeedLengthPerGap = 0.0;
-                           ++restored;
-                         }
-                       }
-                     });
-  EXPECT_EQ(restored, 1u);
+  const TrackmlScore before = scoreEvent1001WithStep(
+      "sigma_z 5.5 mm, 200 mm strip seeds on every pair", std::nullopt,
+      "HelixStrips", [](FindingStep& step) {
+        ASSERT_DOUBLE_EQ(step.seedLengthPerGap, 2.0);
+        step.seedLengthPerGap = 0.0;
+        step.maxSeedLengthPerGap = 0.0;
+      });
   EXPECT_GE(now.score, before.score + 0.001);
   EXPECT_LE(now.fakeRate, 0.05);
 }
@@ -443,19 +455,12 @@ TEST(TrackmlChain, SixHitStripCandidatesClaimInTheFirstPass) {
   const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
   ASSERT_NE(hllhc, nullptr);
   const TrackmlScore now = scoreEvent1001("sigma_z 50 mm", hllhc->config);
-  std::size_t restored = 0;
-  const TrackmlScore before =
-      scoreEvent1001("sigma_z 50 mm, strip candidates of 7 hits first",
-                     hllhc->config, [&](Reconstruction::Config& c) {
-                       for (FindingStep& step : c.chain.steps) {
-                         if (step.name == "HelixStrips") {
-                           ASSERT_EQ(step.firstPassMinHits, 6u);
-                           step.firstPassMinHits = 7;
-                           ++restored;
-                         }
-                       }
-                     });
-  EXPECT_EQ(restored, 1u);
+  const TrackmlScore before = scoreEvent1001WithStep(
+      "sigma_z 50 mm, strip candidates of 7 hits first", hllhc->config,
+      "HelixStrips", [](FindingStep& step) {
+        ASSERT_EQ(step.firstPassMinHits, 6u);
+        step.firstPassMinHits = 7;
+      });
   EXPECT_GE(now.score, before.score + 0.0004);
   EXPECT_LE(now.fakeRate, 0.05);
 }
