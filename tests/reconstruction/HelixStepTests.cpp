@@ -13,7 +13,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "ChainText.hpp"
@@ -58,6 +61,27 @@ EventSimulation muonGun(std::uint64_t seed, const std::string& keys) {
       "random_charge = true\nmultiplicity = 1\n" +
       keys;
   return EventSimulation(clicdet(), cfg);
+}
+
+/// Hits of the event's particles (noise left out) on the subdetectors
+/// `names`.
+std::size_t particleHitsOn(const Event& ev,
+                           std::initializer_list<std::string_view> names) {
+  std::vector<std::uint16_t> subdetectors;
+  for (std::string_view name : names) {
+    const auto sub = clicdet().findSubdetector(name);
+    EXPECT_TRUE(sub.has_value()) << name;
+    subdetectors.push_back(sub.value_or(0));
+  }
+  std::size_t n = 0;
+  for (HitIndex h = 0; h < ev.hits.size(); ++h) {
+    n += ev.truth[h].particleId != 0 &&
+                 std::find(subdetectors.begin(), subdetectors.end(),
+                           ev.hits[h].detId.subdetector) != subdetectors.end()
+             ? 1
+             : 0;
+  }
+  return n;
 }
 
 std::string helixError(const std::string& extra) {
@@ -115,26 +139,22 @@ TEST(HelixStep, KeysAreValidated) {
                 .find("max_seed_gap_mm"),
             std::string::npos);
   EXPECT_EQ(ok.steps[0].maxSeedGap, 0.0);
-  // seed_length_per_gap: a bound above max_seed_length_mm with it, none
-  // without it.
+  // seed_length_per_gap: 0 or above 1, with a bound above
+  // max_seed_length_mm; no bound without it.
   EXPECT_EQ(ok.steps[0].seedLengthPerGap, 0.0);
-  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
-                       "seed_length_per_gap = 2.0\n")
-                .find("seed_length_per_gap_max_mm"),
-            std::string::npos);
-  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
-                       "seed_length_per_gap = 2.0\n"
-                       "seed_length_per_gap_max_mm = 400.0\n")
-                .find("above max_seed_length_mm"),
-            std::string::npos);
-  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
-                       "seed_length_per_gap_max_mm = 600.0\n")
-                .find("needs seed_length_per_gap"),
-            std::string::npos);
-  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
-                       "seed_length_per_gap = -1.0\n")
-                .find("seed_length_per_gap"),
-            std::string::npos);
+  const std::string seedKeys = "max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n";
+  const std::vector<std::pair<std::string, std::string>> perGapErrors = {
+      {"seed_length_per_gap = 2.0\n", "seed_length_per_gap_max_mm"},
+      {"seed_length_per_gap = 2.0\nseed_length_per_gap_max_mm = 400.0\n",
+       "above max_seed_length_mm"},
+      {"seed_length_per_gap_max_mm = 600.0\n", "needs seed_length_per_gap"},
+      {"seed_length_per_gap = -1.0\n", "seed_length_per_gap"},
+      {"seed_length_per_gap = 0.8\nseed_length_per_gap_max_mm = 600.0\n",
+       "above 1"}};
+  for (const auto& [keys, mention] : perGapErrors) {
+    EXPECT_NE(helixError(seedKeys + keys).find(mention), std::string::npos)
+        << keys;
+  }
   const FinderConfig perGap =
       parseChain(helixStep("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
                            "seed_length_per_gap = 2.0\n"
@@ -345,7 +365,6 @@ TEST(HelixStep, AdjacentLayersBeyondTheSeedLengthPairWithMaxSeedGap) {
   // max_seed_gap_mm = 300 adjacent disks pair (a seed segment reaching
   // 250 mm beyond their distance) and the muons are found; disks two
   // apart (568 mm) still do not pair, so a seed skips no disk.
-  const Detector& det = clicdet();
   const std::string keys =
       "max_seed_length_mm = 250.0\nmin_pt_GeV = 0.5\nmax_missed_layers = 0\n";
   const std::string collections = "\"InnerTrackerEndcap\"";
@@ -354,8 +373,6 @@ TEST(HelixStep, AdjacentLayersBeyondTheSeedLengthPairWithMaxSeedGap) {
       helixFinder(keys + "max_seed_gap_mm = 300.0\n", collections);
   const EventSimulation sim =
       muonGun(17, "p_GeV = 5.0\ntheta_min_deg = 12.0\ntheta_max_deg = 16.0\n");
-  const auto disks = det.findSubdetector("InnerTrackerEndcap");
-  ASSERT_TRUE(disks.has_value());
   constexpr std::size_t kEvents = 40;
   std::size_t plainTracks = 0;
   std::size_t gapTracks = 0;
@@ -365,13 +382,7 @@ TEST(HelixStep, AdjacentLayersBeyondTheSeedLengthPairWithMaxSeedGap) {
     const Event ev = sim.simulate(e + 1);
     plainTracks += plain.run(ev.hits).tracks.size();
     const FindingResult r = gap.run(ev.hits);
-    std::size_t muonHits = 0;  // on the inner-tracker disks
-    for (HitIndex h = 0; h < ev.hits.size(); ++h) {
-      muonHits +=
-          ev.truth[h].particleId != 0 && ev.hits[h].detId.subdetector == *disks
-              ? 1
-              : 0;
-    }
+    const std::size_t muonHits = particleHitsOn(ev, {"InnerTrackerEndcap"});
     gapTracks += r.tracks.size();
     for (const FoundTrack& t : r.tracks) {
       found += t.hits.size() + 1 >= muonHits ? 1 : 0;
@@ -415,10 +426,6 @@ TEST(HelixStep, SeedLengthPerGapKeepsThePolarReachOfWideLayerPairs) {
       collections);
   const EventSimulation sim =
       muonGun(23, "p_GeV = 5.0\ntheta_min_deg = 42.0\ntheta_max_deg = 46.0\n");
-  const Detector& det = clicdet();
-  const auto it = det.findSubdetector("InnerTrackerBarrel");
-  const auto ot = det.findSubdetector("OuterTrackerBarrel");
-  ASSERT_TRUE(it.has_value() && ot.has_value());
   constexpr std::size_t kEvents = 40;
   std::size_t plainTracks = 0;
   std::size_t boundedTracks = 0;
@@ -428,12 +435,8 @@ TEST(HelixStep, SeedLengthPerGapKeepsThePolarReachOfWideLayerPairs) {
     const Event ev = sim.simulate(e + 1);
     plainTracks += plain.run(ev.hits).tracks.size();
     boundedTracks += bounded.run(ev.hits).tracks.size();
-    std::size_t muonHits = 0;  // on the tracker barrels
-    for (HitIndex h = 0; h < ev.hits.size(); ++h) {
-      const auto sub = ev.hits[h].detId.subdetector;
-      muonHits +=
-          ev.truth[h].particleId != 0 && (sub == *it || sub == *ot) ? 1 : 0;
-    }
+    const std::size_t muonHits =
+        particleHitsOn(ev, {"InnerTrackerBarrel", "OuterTrackerBarrel"});
     const FindingResult r = scaled.run(ev.hits);
     scaledTracks += r.tracks.size();
     for (const FoundTrack& t : r.tracks) {

@@ -163,6 +163,11 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
                    "required by the \"helix\" action (it bounds the seed "
                    "search)");
   }
+  if (s.seedLengthPerGap > 0.0 && s.seedLengthPerGap <= 1.0) {
+    // Two layers within the seed length pair anyway; a factor of 1 or
+    // less would lengthen no pair and silently do nothing.
+    return problem("seed_length_per_gap", "must be 0 (off) or above 1");
+  }
   if (s.seedLengthPerGap > 0.0 && !s.helix) {
     return problem("seed_length_per_gap",
                    "only a helix step reads it (0: off)");
