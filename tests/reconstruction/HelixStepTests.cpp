@@ -205,6 +205,27 @@ TEST(HelixStep, KeysAreValidated) {
     notHelix = e.what();
   }
   EXPECT_NE(notHelix.find("only a helix step"), std::string::npos);
+  // past_turn_min_hits: 0 (off) by default, only with inward_collections,
+  // at most 100.
+  EXPECT_EQ(inward.steps[0].pastTurnMinHits, 0u);
+  const std::string inwardKeys =
+      "max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+      "inward_collections = [\"VertexBarrel\"]\n";
+  EXPECT_EQ(parseChain(helixStep(inwardKeys + "past_turn_min_hits = 2\n"),
+                       "chain.toml", clicdet())
+                .steps[0]
+                .pastTurnMinHits,
+            2u);
+  EXPECT_NE(helixError("max_seed_length_mm = 400.0\nmin_pt_GeV = 0.5\n"
+                       "past_turn_min_hits = 2\n")
+                .find("only a helix step with inward_collections"),
+            std::string::npos);
+  EXPECT_NE(helixError(inwardKeys + "past_turn_min_hits = 101\n")
+                .find("past_turn_min_hits"),
+            std::string::npos);
+  EXPECT_NE(helixError(inwardKeys + "past_turn_min_hits = -1\n")
+                .find("past_turn_min_hits"),
+            std::string::npos);
   // Defaults of a step without the action: no pT floor, no d0 cut.
   const FinderConfig plain =
       parseChain(minimalStep("VertexBarrel"), "chain.toml", clicdet());

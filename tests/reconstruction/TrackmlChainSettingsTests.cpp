@@ -162,6 +162,12 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(step("HelixStrips").maxSeedLengthPerGap, 300.0);
   // Its 6-hit candidates claim in the first pass (Helix: 8 hits).
   EXPECT_EQ(step("HelixStrips").firstPassMinHits, 6u);
+  // It follows its tracks past the turn, taking incoming legs of two hits
+  // or more (TrackmlChain.StripTracksTakeTheirIncomingLegsHits); no other
+  // step follows inwards.
+  for (const FindingStep& s : c.steps) {
+    EXPECT_EQ(s.pastTurnMinHits, s.name == "HelixStrips" ? 2u : 0u) << s.name;
+  }
   EXPECT_DOUBLE_EQ(step("Helix").seedLengthPerGap, 0.0);
   for (const FindingStep& s : c.steps) {
     EXPECT_TRUE(s.name == "PixelShort" || s.overlapPairBelowHits == 0)

@@ -83,6 +83,11 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
     return problem("inward_collections",
                    "only a helix step follows its tracks inwards");
   }
+  if (s.pastTurnMinHits > 0 && s.inwardCollections.empty()) {
+    return problem("past_turn_min_hits",
+                   "only a helix step with inward_collections follows its "
+                   "tracks past the turn (0: off)");
+  }
   if (index == 0 && s.collections.empty()) {
     return problem("collections",
                    "the first step must name its collections (an empty list "
@@ -149,6 +154,9 @@ std::optional<ChainProblem> findStepProblem(const FindingStep& s,
                Range{0.0, kInf, true, false}},
               // 0: one pass.
               {"first_pass_min_hits", static_cast<double>(s.firstPassMinHits),
+               one, Range::closed(0, 100)},
+              // 0: off.
+              {"past_turn_min_hits", static_cast<double>(s.pastTurnMinHits),
                one, Range::closed(0, 100)},
               // 0: off.
               {"overlap_pair_below_hits",

@@ -125,6 +125,7 @@ FindingStep readStep(const ConfigTable& t, const Detector& detector) {
       count(t, "continue_missed_layers", s.continueMissedLayers);
   s.continueChi2Cut = quantity(t, "continue_chi2_cut", one, s.continueChi2Cut);
   s.firstPassMinHits = count(t, "first_pass_min_hits", s.firstPassMinHits);
+  s.pastTurnMinHits = count(t, "past_turn_min_hits", s.pastTurnMinHits);
   s.overlapPairBelowHits =
       count(t, "overlap_pair_below_hits", s.overlapPairBelowHits);
   s.straightLineFit = t.getBool("straight_line_fit", false);

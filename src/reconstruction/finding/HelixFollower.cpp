@@ -77,6 +77,9 @@ void HelixFollower::follow(HelixPath& p, const Limits& limits) {
               [](const LayerHit& a, const LayerHit& b) {
                 return a.arc != b.arc ? a.arc < b.arc : a.hit < b.hit;
               });
+    // Past the closest approach now: the crossings ahead are the other
+    // leg's.
+    m_limits.fromClosestApproach = false;
     const double sLast = p.s.back();
     for (const LayerHit& lh : m_taken) {
       p.hits.push_back(lh.hit);
@@ -113,6 +116,19 @@ void HelixFollower::followInward(HelixPath& p, const Limits& limits) {
   inward.untilClosestApproach = true;
   follow(reversed, inward);
   if (reversed.hits.size() > p.hits.size()) {
+    p = reversedPath(m_hits, reversed);
+  }
+}
+
+void HelixFollower::followPastTurn(HelixPath& p, const Limits& limits,
+                                   std::uint32_t minHits) {
+  HelixPath reversed = reversedPath(m_hits, p);
+  const std::size_t before = reversed.hits.size();
+  Limits pastTurn = limits;
+  pastTurn.untilClosestApproach = false;
+  pastTurn.fromClosestApproach = true;
+  follow(reversed, pastTurn);
+  if (reversed.hits.size() >= before + std::max<std::uint32_t>(minHits, 1)) {
     p = reversedPath(m_hits, reversed);
   }
 }
@@ -210,10 +226,30 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
   const double maxRadius = m_limits.untilClosestApproach
                                ? m_hits.radius[last]
                                : std::numeric_limits<double>::infinity();
+  // followPastTurn: the arc length from the last hit to the closest
+  // approach (the circle's point on the line from its centre to the beam
+  // line), before which the crossings are the blind leg's.
+  double turnArc = -1.0;
+  if (m_limits.fromClosestApproach) {
+    const double cn = norm2(cp.cx, cp.cy);
+    if (cn > 0.0) {
+      turnArc =
+          cp.arc(m_hits.x[last], m_hits.y[last], cp.cx - cp.rho * cp.cx / cn,
+                 cp.cy - cp.rho * cp.cy / cn);
+      // Behind the last hit (a look-ahead from a hit past the turn): no
+      // crossing ahead is the blind leg's.
+      if (turnArc > std::numbers::pi * cp.rho) {
+        turnArc = -1.0;
+      }
+    }
+  }
   for (const Crossing& x : m_crossings) {
     const double rCross = norm2(x.x, x.y);
     if (rCross > maxRadius) {
       break;
+    }
+    if (x.ds < turnArc) {
+      continue;
     }
     const double ratio = x.ds / lever;
     const double growth = sigmaLast * (1.0 + ratio * ratio);

@@ -198,6 +198,9 @@ class HelixBuilder {
     // (FindingStep::inwardCollections).
     if (m_inward) {
       m_inward->followInward(best, m_continue);
+      if (m_step.pastTurnMinHits > 0) {
+        m_inward->followPastTurn(best, m_continue, m_step.pastTurnMinHits);
+      }
     }
     accept(best);
   }

@@ -57,6 +57,17 @@ struct FindingStep {
   /// step seeded in an outer subdetector reaches back into the inner one
   /// that its seeds leave out (docs/algorithm.md 3.8).
   std::vector<std::uint16_t> inwardCollections;
+  /// Helix steps with inwardCollections: after the inward following, the
+  /// helix is followed on past its closest approach to the beam line, back
+  /// along the particle's incoming leg, and the hits found there are added
+  /// if they are at least this many (0, the default: off). A particle
+  /// produced off the beam line moving inwards crosses the inner layers
+  /// before it turns; TrackML's files have no hits after the turn in the
+  /// part of the tracker where it turned (docs/validation.md item 5), so
+  /// its inner hits lie only on the incoming leg, which the inward
+  /// following, ending at the closest approach, never reaches
+  /// (docs/algorithm.md 3.8).
+  std::uint32_t pastTurnMinHits = 0;
   /// Actions, run in this order when set.
   bool build = false;   ///< BuildNewTracks
   bool extend = false;  ///< ExtendTracks

@@ -54,6 +54,11 @@ class HelixFollower {
     /// ends where its helix comes closest to the beam line, where the
     /// particle was produced at the latest.
     bool untilClosestApproach = false;
+    /// The path runs against the particle's motion and goes on past its
+    /// closest approach to the beam line (followPastTurn): the crossings
+    /// before that point are neither searched nor counted as missed until
+    /// the first hit beyond it is taken.
+    bool fromClosestApproach = false;
   };
 
   /// Extends the path outwards hit by hit (see the class comment), ending
@@ -65,6 +70,15 @@ class HelixFollower {
   /// subdetector takes the particle's hits in the inner one this way
   /// (FindingStep::inwardCollections).
   void followInward(HelixPath& p, const Limits& limits);
+  /// After followInward: follows the path on from its first hit against
+  /// the motion, past the helix's closest approach to the beam line and
+  /// out along the other leg (the particle's way in, if it was produced
+  /// off the beam line moving inwards), with `limits`, skipping the
+  /// crossings before the closest approach. The hits found there are put
+  /// before the path's first if they are at least `minHits`
+  /// (FindingStep::pastTurnMinHits); otherwise the path is unchanged.
+  void followPastTurn(HelixPath& p, const Limits& limits,
+                      std::uint32_t minHits);
 
   /// Adds the overlap partners of the path's seed hits (its first three),
   /// which follow() does not see: on other sensors of a seed hit's layer,
