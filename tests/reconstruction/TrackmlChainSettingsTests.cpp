@@ -51,7 +51,7 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_TRUE(off.scatteringAllowance);
   // The extensions' hit chi2 cut, relative to the track's chi2/ndf (off
   // unless a chain sets it).
-  EXPECT_DOUBLE_EQ(c.extensionHitChi2Ratio, 30.0);
+  EXPECT_DOUBLE_EQ(c.extensionHitChi2Ratio, 20.0);
   EXPECT_DOUBLE_EQ(c.extensionHitChi2Floor, 100.0);
   EXPECT_DOUBLE_EQ(off.extensionHitChi2Ratio, 0.0);
   // The displaced step last: real-space helices seeded in the pixels, cut
@@ -160,6 +160,9 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(step("HelixStrips").maxSeedLength, 200.0);
   EXPECT_DOUBLE_EQ(step("HelixStrips").seedLengthPerGap, 2.0);
   EXPECT_DOUBLE_EQ(step("HelixStrips").maxSeedLengthPerGap, 300.0);
+  // The extensions rank z against the tracks' (s, z) filter
+  // (ExtensionRanking.SzFilterKeepsLowMomentumTracksOnTheirOwnHits).
+  EXPECT_TRUE(c.extensionSzFilter);
   // Its 6-hit candidates claim in the first pass (Helix: 8 hits).
   EXPECT_EQ(step("HelixStrips").firstPassMinHits, 6u);
   // It follows its tracks past the turn, taking incoming legs of two hits
@@ -294,6 +297,14 @@ TEST(TrackmlChain, NewKeysAreValidated) {
                        "[finder]\noverlap_hits = false\n")
                 .find("needs the overlap search"),
             std::string::npos);
+  // The extensions' (s, z) filter: a boolean of [finder], off by default.
+  EXPECT_EQ(chainError("", "[finder]\nextension_sz_filter = true\n"), "");
+  EXPECT_NE(chainError("", "[finder]\nextension_sz_filter = 2\n")
+                .find("extension_sz_filter"),
+            std::string::npos);
+  EXPECT_FALSE(parseChain(minimalStep("PixelBarrel"), "chain.toml",
+                          loadDetector("trackml"))
+                   .extensionSzFilter);
 }
 
 }  // namespace

@@ -32,9 +32,16 @@
 // precisely on strips, rules it out. The hits examined per predicted crossing
 // are bounded (ExtensionCuts::maxWindowHits, counted; the nearest to the
 // predicted point are kept), so that the cost per track does not grow without
-// bound with the hit density.
+// bound with the hit density. With ExtensionCuts::szFilter the z part of that
+// ranking is taken against the (s, z) filter of the chain's hits run towards
+// its end (filterPathSz, each crossed layer's scattering in the slope's
+// variance) instead of the straight line through all of them: at low momentum
+// the slope wanders, and far beyond the end the line misses the track's own
+// hit by more than a noise hit near it.
 
 #include "conftrack/reconstruction/finding/detail/TrackFollower.hpp"
+
+#include "conftrack/core/Units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -60,6 +67,10 @@ constexpr std::size_t kLookaheadBranches = 3;
 /// Largest look-ahead depth (that of the chain validation): the work grows
 /// as kLookaheadBranches^depth per added hit.
 constexpr int kMaxLookahead = 5;
+/// pT floor of the (s, z) filter's scattering (ExtensionCuts::szFilter):
+/// the conformal fit of a short track can give any pT, and no track the
+/// extensions follow is below this.
+constexpr double kFilterMinPt = 0.1 * units::GeV;
 
 /// One run of followTrack: the rules bound to the event.
 class Follower {
@@ -114,6 +125,13 @@ class Follower {
   bool collectWith(const Chain& chain, std::vector<Candidate>& out,
                    ConfIndex excluded, const double* allowanceReach,
                    double* nearest, double beyond);
+
+  /// With ExtensionCuts::szFilter and three or more hits: the (s, z)
+  /// filter of the chain's hits run towards the end being followed, in
+  /// `state` (its slope and arc lengths in the direction of the search),
+  /// and that end's arc length in the chain's frame, in `sEnd`; false
+  /// otherwise.
+  bool filterAtEnd(const Chain& chain, SzState& state, double& sEnd);
 
   FinderState& m_state;
   const ConformalHits& m_hits;
@@ -210,6 +228,36 @@ double Follower::lookahead(const Chain& chain, ConfIndex h, int depth) {
   return best;
 }
 
+bool Follower::filterAtEnd(const Chain& chain, SzState& state, double& sEnd) {
+  const std::size_t n = chain.hits.size();
+  if (!m_cuts.szFilter || n < 3) {
+    return false;
+  }
+  // Arc lengths in the chain's frame, each unwrapped against the previous
+  // hit (the extensions follow at most half a turn).
+  std::vector<double>& arcs = m_work.filterArcs;
+  arcs.resize(n);
+  arcs[0] = 0.0;
+  for (std::size_t k = 1; k < n; ++k) {
+    arcs[k] = chain.arc.hitArcLength(m_hits, chain.hits[k], arcs[k - 1]);
+  }
+  // Inwards the filter runs from the last hit to the first, s and the
+  // slope reversed.
+  HelixPath& path = m_work.filterPath;
+  path.hits.resize(n);
+  path.s.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t j = m_inward ? n - 1 - k : k;
+    path.hits[k] = chain.hits[j];
+    path.s[k] = m_inward ? -arcs[j] : arcs[j];
+  }
+  path.t = m_inward ? -chain.sz.tanLambda : chain.sz.tanLambda;
+  state = filterPathSz(m_hits, path, m_state.detector.layers(), kFilterMinPt,
+                       chain.uv.pt(m_state.bzForPt));
+  sEnd = m_inward ? arcs[0] : arcs[n - 1];
+  return true;
+}
+
 bool Follower::collect(const Chain& chain, std::vector<Candidate>& out,
                        ConfIndex excluded, double beyond) {
   double nearest = std::numeric_limits<double>::infinity();
@@ -257,6 +305,9 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
   double firstS = std::numeric_limits<double>::infinity();
   const SearchStart from =
       m_search.start(chain.arc, sz, sLast, m_rules.direction);
+  SzState filter;
+  double filterEnd = 0.0;
+  const bool filtered = !allowance && filterAtEnd(chain, filter, filterEnd);
   for (std::uint32_t layer : m_search.pool().layers()) {
     const std::vector<Prediction>& predictions =
         m_search.predict(layer, from, m_rules.branches);
@@ -346,6 +397,16 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
           rankUv = uv.deltaChi2(m_hits, h, rank.uv);
           rankSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h] + rank.z,
                                 m_hits.varRxy[h]);
+          if (filtered) {
+            // The filter's prediction a distance ds along the search, with
+            // the last layer's scattering as above.
+            const double along = m_inward ? filterEnd - s : s - filterEnd;
+            const double dz = m_hits.z[h] - filter.zAt(along);
+            const double variance = filter.varAt(along) + rank.z +
+                                    m_hits.varZ[h] +
+                                    filter.t * filter.t * m_hits.varRxy[h];
+            rankSz = dz * dz / variance;
+          }
         }
         // A hit far beyond the track's own fit quality is another
         // particle's, however little it raises chi2/ndf of a long track;
@@ -382,6 +443,7 @@ ExtensionCuts ExtensionCuts::fromStep(const FindingStep& step,
   c.hitChi2Ratio = finder.extensionHitChi2Ratio;
   c.hitChi2Floor = finder.extensionHitChi2Floor;
   c.skipChi2 = finder.extensionSkipChi2;
+  c.szFilter = finder.extensionSzFilter;
   return c;
 }
 

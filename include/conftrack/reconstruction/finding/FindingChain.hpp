@@ -330,6 +330,16 @@ struct FinderConfig {
   /// a neighbour's or a noise hit there and misses its own hits further
   /// on. A conftrack addition (issue 15; docs/algorithm.md 3.4).
   double extensionSkipChi2 = 0.0;
+  /// Extensions (outward and inward) rank a candidate hit's z against the
+  /// (s, z) filter of the track's hits, which carries the multiple
+  /// scattering of every layer crossed (the helix steps' filter,
+  /// detail::filterPathSz), instead of the straight line fitted through
+  /// all of them, whose slope is the mean over the whole track. Below a
+  /// GeV the slope wanders from layer to layer, and 200 mm beyond the
+  /// last hit the line can miss the track's own hit by 10-20 mm, a noise
+  /// hit nearer the line winning (off by default; a conftrack addition,
+  /// issue 15; docs/algorithm.md 3.4).
+  bool extensionSzFilter = false;
   /// Use upstream's hard-coded 4 T in the pT estimate (for comparisons
   /// only; wrong for CLD).
   bool legacyFourTesla = false;

@@ -7,6 +7,7 @@
 /// with its own FollowRules. The algorithm is described in
 /// TrackFollower.cpp.
 
+#include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
 #include "conftrack/reconstruction/finding/detail/LayerCrossingSearch.hpp"
 
 #include <cstdint>
@@ -48,6 +49,10 @@ struct ExtensionCuts {
   /// with the best hit beyond that layer, which wins if lower by more than
   /// a missing hit's charge (finder key extension_skip_chi2; 0: off).
   double skipChi2 = 0.0;
+  /// Candidates are ranked in z against the (s, z) filter of the track's
+  /// hits rather than its straight-line fit (finder key
+  /// extension_sz_filter).
+  bool szFilter = false;
 
   /// The largest chi2 of a candidate hit (as ranked) on a track with these
   /// fits; infinite when the cut is off.
@@ -103,6 +108,10 @@ struct FollowWorkspace {
   };
   /// Indexed by the remaining depth (1 .. lookahead; 0 unused).
   std::vector<Level> levels;
+  /// The chain's hits in the order of the search and their arc lengths
+  /// (ExtensionCuts::szFilter).
+  HelixPath filterPath;
+  std::vector<double> filterArcs;
 };
 
 /// Follows track t of state.tracks over `pool` with `cuts` and `rules`,
