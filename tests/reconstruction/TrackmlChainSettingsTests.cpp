@@ -163,6 +163,9 @@ TEST(TrackmlChain, ShippedChainSettings) {
   // The extensions rank z against the tracks' (s, z) filter
   // (ExtensionRanking.SzFilterKeepsLowMomentumTracksOnTheirOwnHits).
   EXPECT_TRUE(c.extensionSzFilter);
+  // ... and in (u, v) with every crossed layer's scattering
+  // (ExtensionRanking.UvScatteringOfEveryLayerKeepsTracksOnTheirOwnHits).
+  EXPECT_TRUE(c.extensionUvScattering);
   // Its 6-hit candidates claim in the first pass (Helix: 8 hits).
   EXPECT_EQ(step("HelixStrips").firstPassMinHits, 6u);
   // It follows its tracks past the turn, taking incoming legs of two hits
@@ -302,9 +305,13 @@ TEST(TrackmlChain, NewKeysAreValidated) {
   EXPECT_NE(chainError("", "[finder]\nextension_sz_filter = 2\n")
                 .find("extension_sz_filter"),
             std::string::npos);
-  EXPECT_FALSE(parseChain(minimalStep("PixelBarrel"), "chain.toml",
-                          loadDetector("trackml"))
-                   .extensionSzFilter);
+  const FinderConfig defaults = parseChain(
+      minimalStep("PixelBarrel"), "chain.toml", loadDetector("trackml"));
+  EXPECT_FALSE(defaults.extensionSzFilter);
+  EXPECT_FALSE(defaults.extensionUvScattering);
+  EXPECT_NE(chainError("", "[finder]\nextension_uv_scattering = \"yes\"\n")
+                .find("extension_uv_scattering"),
+            std::string::npos);
 }
 
 }  // namespace

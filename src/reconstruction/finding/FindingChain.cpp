@@ -229,6 +229,8 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
         quantity(f, "extension_skip_chi2", 1.0, cfg.extensionSkipChi2);
     cfg.extensionSzFilter =
         f.getBool("extension_sz_filter", cfg.extensionSzFilter);
+    cfg.extensionUvScattering =
+        f.getBool("extension_uv_scattering", cfg.extensionUvScattering);
     cfg.legacyFourTesla = f.getBool("legacy_four_tesla", false);
     cfg.finalHoleFilling =
         f.getBool("final_hole_filling", cfg.finalHoleFilling);

@@ -126,12 +126,28 @@ class Follower {
                    ConfIndex excluded, const double* allowanceReach,
                    double* nearest, double beyond);
 
-  /// With ExtensionCuts::szFilter and three or more hits: the (s, z)
-  /// filter of the chain's hits run towards the end being followed, in
-  /// `state` (its slope and arc lengths in the direction of the search),
-  /// and that end's arc length in the chain's frame, in `sEnd`; false
-  /// otherwise.
-  bool filterAtEnd(const Chain& chain, SzState& state, double& sEnd);
+  /// What the ranking of one search knows of the chain beyond its fits
+  /// (ExtensionCuts::szFilter, uvScattering).
+  struct RankingModel {
+    /// The (s, z) filter of the chain's hits run towards the end being
+    /// followed (its slope and arc lengths in the direction of the
+    /// search).
+    bool szFilter = false;
+    SzState filter;
+    /// The transverse scattering of every layer the chain crossed
+    /// (FollowWorkspace::uvError).
+    bool uvScattering = false;
+    /// The end's arc length in the chain's frame.
+    double sEnd = 0.0;
+    /// Arc length from the end to s, along the search.
+    double along(double s, bool inward) const {
+      return inward ? sEnd - s : s - sEnd;
+    }
+  };
+
+  /// The ranking model of a chain of three or more hits (both parts off
+  /// otherwise, or where the cuts leave them off).
+  RankingModel rankingModel(const Chain& chain);
 
   FinderState& m_state;
   const ConformalHits& m_hits;
@@ -228,10 +244,11 @@ double Follower::lookahead(const Chain& chain, ConfIndex h, int depth) {
   return best;
 }
 
-bool Follower::filterAtEnd(const Chain& chain, SzState& state, double& sEnd) {
+Follower::RankingModel Follower::rankingModel(const Chain& chain) {
+  RankingModel model;
   const std::size_t n = chain.hits.size();
-  if (!m_cuts.szFilter || n < 3) {
-    return false;
+  if (!(m_cuts.szFilter || m_cuts.uvScattering) || n < 3) {
+    return model;
   }
   // Arc lengths in the chain's frame, each unwrapped against the previous
   // hit (the extensions follow at most half a turn).
@@ -241,7 +258,7 @@ bool Follower::filterAtEnd(const Chain& chain, SzState& state, double& sEnd) {
   for (std::size_t k = 1; k < n; ++k) {
     arcs[k] = chain.arc.hitArcLength(m_hits, chain.hits[k], arcs[k - 1]);
   }
-  // Inwards the filter runs from the last hit to the first, s and the
+  // Inwards the models run from the last hit to the first, s and the
   // slope reversed.
   HelixPath& path = m_work.filterPath;
   path.hits.resize(n);
@@ -252,10 +269,36 @@ bool Follower::filterAtEnd(const Chain& chain, SzState& state, double& sEnd) {
     path.s[k] = m_inward ? -arcs[j] : arcs[j];
   }
   path.t = m_inward ? -chain.sz.tanLambda : chain.sz.tanLambda;
-  state = filterPathSz(m_hits, path, m_state.detector.layers(), kFilterMinPt,
-                       chain.uv.pt(m_state.bzForPt));
-  sEnd = m_inward ? arcs[0] : arcs[n - 1];
-  return true;
+  model.sEnd = m_inward ? arcs[0] : arcs[n - 1];
+  const double pt = chain.uv.pt(m_state.bzForPt);
+  const std::vector<SensitiveLayer>& layers = m_state.detector.layers();
+  if (m_cuts.szFilter) {
+    model.filter = filterPathSz(m_hits, path, layers, kFilterMinPt, pt);
+    model.szFilter = true;
+  }
+  if (m_cuts.uvScattering) {
+    // Each hit's transverse resolution and the transverse kink in its
+    // layer (once per layer crossing: the second hit of an overlap adds
+    // none), as the helix steps take them (HelixFollower).
+    const double secL = norm2(1.0, chain.sz.tanLambda);
+    m_work.uvSigma.resize(n);
+    m_work.uvKink.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const ConfIndex h = path.hits[k];
+      m_work.uvSigma[k] =
+          std::sqrt(m_hits.varT[h]) * m_hits.radius[h] * m_hits.radius[h];
+      const bool sameCrossing =
+          k > 0 && m_hits.layer[h] == m_hits.layer[path.hits[k - 1]];
+      m_work.uvKink[k] =
+          sameCrossing ? 0.0
+                       : helixTheta0(layers[m_hits.layer[h]], kFilterMinPt, pt,
+                                     chain.sz.tanLambda) *
+                             secL;
+    }
+    model.uvScattering =
+        m_work.uvError.reset(path.s, m_work.uvSigma, m_work.uvKink);
+  }
+  return model;
 }
 
 bool Follower::collect(const Chain& chain, std::vector<Candidate>& out,
@@ -305,9 +348,7 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
   double firstS = std::numeric_limits<double>::infinity();
   const SearchStart from =
       m_search.start(chain.arc, sz, sLast, m_rules.direction);
-  SzState filter;
-  double filterEnd = 0.0;
-  const bool filtered = !allowance && filterAtEnd(chain, filter, filterEnd);
+  const RankingModel model = allowance ? RankingModel{} : rankingModel(chain);
   for (std::uint32_t layer : m_search.pool().layers()) {
     const std::vector<Prediction>& predictions =
         m_search.predict(layer, from, m_rules.branches);
@@ -397,14 +438,22 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
           rankUv = uv.deltaChi2(m_hits, h, rank.uv);
           rankSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h] + rank.z,
                                 m_hits.varRxy[h]);
-          if (filtered) {
+          const double along = model.along(s, m_inward);
+          if (model.uvScattering) {
+            // Every crossed layer's kink, moved into the conformal plane
+            // (a distance d there is d / R^2).
+            const double r2 = m_hits.radius[h] * m_hits.radius[h];
+            rankUv = uv.deltaChi2(
+                m_hits, h,
+                m_work.uvError.scatteringVariance(along) / (r2 * r2));
+          }
+          if (model.szFilter) {
             // The filter's prediction a distance ds along the search, with
             // the last layer's scattering as above.
-            const double along = m_inward ? filterEnd - s : s - filterEnd;
-            const double dz = m_hits.z[h] - filter.zAt(along);
-            const double variance = filter.varAt(along) + rank.z +
-                                    m_hits.varZ[h] +
-                                    filter.t * filter.t * m_hits.varRxy[h];
+            const SzState& f = model.filter;
+            const double dz = m_hits.z[h] - f.zAt(along);
+            const double variance = f.varAt(along) + rank.z + m_hits.varZ[h] +
+                                    f.t * f.t * m_hits.varRxy[h];
             rankSz = dz * dz / variance;
           }
         }
@@ -444,6 +493,7 @@ ExtensionCuts ExtensionCuts::fromStep(const FindingStep& step,
   c.hitChi2Floor = finder.extensionHitChi2Floor;
   c.skipChi2 = finder.extensionSkipChi2;
   c.szFilter = finder.extensionSzFilter;
+  c.uvScattering = finder.extensionUvScattering;
   return c;
 }
 

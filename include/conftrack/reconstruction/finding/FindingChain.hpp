@@ -340,6 +340,14 @@ struct FinderConfig {
   /// hit nearer the line winning (off by default; a conftrack addition,
   /// issue 15; docs/algorithm.md 3.4).
   bool extensionSzFilter = false;
+  /// Extensions (outward and inward) rank a candidate's transverse residual
+  /// with the multiple scattering of every layer the track crossed (the
+  /// helix steps' HelixPredictionError: each kink moves the particle off
+  /// the fitted circle by its angle times the distance, less what the
+  /// later hits let the fit follow) instead of the last layer's only
+  /// (off by default; a conftrack addition, issue 15; docs/algorithm.md
+  /// 3.4).
+  bool extensionUvScattering = false;
   /// Use upstream's hard-coded 4 T in the pT estimate (for comparisons
   /// only; wrong for CLD).
   bool legacyFourTesla = false;

@@ -8,6 +8,7 @@
 /// TrackFollower.cpp.
 
 #include "conftrack/reconstruction/finding/detail/HelixPath.hpp"
+#include "conftrack/reconstruction/finding/detail/HelixPredictionError.hpp"
 #include "conftrack/reconstruction/finding/detail/LayerCrossingSearch.hpp"
 
 #include <cstdint>
@@ -53,6 +54,10 @@ struct ExtensionCuts {
   /// hits rather than its straight-line fit (finder key
   /// extension_sz_filter).
   bool szFilter = false;
+  /// Candidates are ranked in (u, v) with the transverse scattering of
+  /// every layer the track crossed rather than the last one's (finder key
+  /// extension_uv_scattering).
+  bool uvScattering = false;
 
   /// The largest chi2 of a candidate hit (as ranked) on a track with these
   /// fits; infinite when the cut is off.
@@ -112,6 +117,11 @@ struct FollowWorkspace {
   /// (ExtensionCuts::szFilter).
   HelixPath filterPath;
   std::vector<double> filterArcs;
+  /// The transverse prediction error of the chain's hits and their inputs
+  /// (ExtensionCuts::uvScattering).
+  HelixPredictionError uvError;
+  std::vector<double> uvSigma;
+  std::vector<double> uvKink;
 };
 
 /// Follows track t of state.tracks over `pool` with `cuts` and `rules`,
