@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "TrackmlSample.hpp"
@@ -42,6 +43,24 @@ OwnForeign countOwnForeign(const Event& event, const Detector& detector,
   }
   c.foreign -= c.own;
   return c;
+}
+
+/// countOwnForeign on event 1001 with the real noise rate, with the shipped
+/// chain (which must have `key` on) and with `key` off; prints both.
+std::pair<OwnForeign, OwnForeign> ownForeignWithAndWithout(
+    const char* what, bool FinderConfig::*key) {
+  const Event event = test::simulateTrackml(test::event1001Particles(),
+                                            test::SampleNoise::eReal);
+  const Detector detector = loadDetector("trackml");
+  const OwnForeign on = countOwnForeign(
+      event, detector, [&](FinderConfig& c) { EXPECT_TRUE(c.*key); });
+  const OwnForeign off = countOwnForeign(
+      event, detector, [&](FinderConfig& c) { c.*key = false; });
+  std::printf(
+      "[ trackml 1001, %zu hits ] own hits on tracks %zu with %s, %zu "
+      "without; foreign %zu with, %zu without\n",
+      event.hits.size(), on.own, what, off.own, on.foreign, off.foreign);
+  return {on, off};
 }
 
 TEST(ExtensionRanking, ScatteringRanksLongStripDecoysBelowTheTracksHits) {
@@ -173,18 +192,8 @@ TEST(ExtensionRanking, SzFilterKeepsLowMomentumTracksOnTheirOwnHits) {
   // / 4104); the TrackML score of the five events 0.8960 / 0.8890 ->
   // 0.8988 / 0.8913 (sigma_z 5.5 / 50 mm). Guarded at +120 own and -1.5 %
   // foreign.
-  const Event event = test::simulateTrackml(test::event1001Particles(),
-                                            test::SampleNoise::eReal);
-  const Detector detector = loadDetector("trackml");
-  const OwnForeign on = countOwnForeign(event, detector, [](FinderConfig& c) {
-    EXPECT_TRUE(c.extensionSzFilter);
-  });
-  const OwnForeign off = countOwnForeign(
-      event, detector, [](FinderConfig& c) { c.extensionSzFilter = false; });
-  std::printf(
-      "[ trackml 1001, %zu hits ] own hits on tracks %zu with the (s, z) "
-      "filter, %zu without; foreign %zu with, %zu without\n",
-      event.hits.size(), on.own, off.own, on.foreign, off.foreign);
+  const auto [on, off] = ownForeignWithAndWithout(
+      "the (s, z) filter", &FinderConfig::extensionSzFilter);
   EXPECT_GE(on.own, off.own + 120);
   EXPECT_LE(static_cast<double>(on.foreign), 0.985 * off.foreign);
 }
@@ -197,19 +206,9 @@ TEST(ExtensionRanking, UvScatteringOfEveryLayerKeepsTracksOnTheirOwnHits) {
   // 69392 with it against 69337 without, foreign 3896 against 3917; the
   // TrackML score of the five events 0.8990 / 0.8918 -> 0.8999 / 0.8928
   // (sigma_z 5.5 / 50 mm). Guarded at +25 own and no more foreign.
-  const Event event = test::simulateTrackml(test::event1001Particles(),
-                                            test::SampleNoise::eReal);
-  const Detector detector = loadDetector("trackml");
-  const OwnForeign on = countOwnForeign(event, detector, [](FinderConfig& c) {
-    EXPECT_TRUE(c.extensionUvScattering);
-  });
-  const OwnForeign off = countOwnForeign(event, detector, [](FinderConfig& c) {
-    c.extensionUvScattering = false;
-  });
-  std::printf(
-      "[ trackml 1001, %zu hits ] own hits on tracks %zu with every layer's "
-      "scattering in (u, v), %zu without; foreign %zu with, %zu without\n",
-      event.hits.size(), on.own, off.own, on.foreign, off.foreign);
+  const auto [on, off] =
+      ownForeignWithAndWithout("every layer's scattering in (u, v)",
+                               &FinderConfig::extensionUvScattering);
   EXPECT_GE(on.own, off.own + 25);
   EXPECT_LE(on.foreign, off.foreign);
 }
