@@ -37,7 +37,9 @@
 // its end (filterPathSz, each crossed layer's scattering in the slope's
 // variance) instead of the straight line through all of them: at low momentum
 // the slope wanders, and far beyond the end the line misses the track's own
-// hit by more than a noise hit near it.
+// hit by more than a noise hit near it. With ExtensionCuts::uvScattering the
+// (u, v) part carries the scattering of every layer the chain crossed
+// (HelixPredictionError, as the helix steps), not only the last one's.
 
 #include "conftrack/reconstruction/finding/detail/TrackFollower.hpp"
 

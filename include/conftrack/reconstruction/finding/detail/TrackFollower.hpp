@@ -114,7 +114,7 @@ struct FollowWorkspace {
   /// Indexed by the remaining depth (1 .. lookahead; 0 unused).
   std::vector<Level> levels;
   /// The chain's hits in the order of the search and their arc lengths
-  /// (ExtensionCuts::szFilter).
+  /// (ExtensionCuts::szFilter, uvScattering).
   HelixPath filterPath;
   std::vector<double> filterArcs;
   /// The transverse prediction error of the chain's hits and their inputs
