@@ -128,7 +128,7 @@ void HelixFollower::followPastTurn(HelixPath& p, const Limits& limits,
   pastTurn.untilClosestApproach = false;
   pastTurn.fromClosestApproach = true;
   follow(reversed, pastTurn);
-  if (reversed.hits.size() >= before + std::max<std::uint32_t>(minHits, 1)) {
+  if (reversed.hits.size() >= before + minHits) {
     p = reversedPath(m_hits, reversed);
   }
 }
@@ -200,16 +200,8 @@ bool HelixFollower::nextCrossing(HelixPath& p, TransverseCircle& c,
   // The prediction's transverse error: every hit's resolution and every
   // crossed layer's scattering (theta0 / cos(lambda) in azimuth), once per
   // layer crossing (the second hit of an overlap adds no kink).
-  m_errorSigma.resize(n);
-  m_errorKink.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const ConfIndex h = p.hits[k];
-    m_errorSigma[k] = transverseSigma(h);
-    const bool sameCrossing =
-        k > 0 && m_hits.layer[h] == m_hits.layer[p.hits[k - 1]];
-    m_errorKink[k] =
-        sameCrossing ? 0.0 : theta0(m_hits.layer[h], pt, sz.t) * secL;
-  }
+  predictionErrorInputs(m_hits, m_layers, p.hits, m_step.minPt, pt, sz.t,
+                        m_errorSigma, m_errorKink);
   const bool modelled = m_error.reset(p.s, m_errorSigma, m_errorKink);
   // Without a parabola (fewer than three distinct arc lengths): the last
   // hit's error grown with the extrapolation, and the last layer's kink.
@@ -614,7 +606,7 @@ double HelixFollower::pairChi2(ConfIndex a, ConfIndex h, double dPerp,
 }
 
 double HelixFollower::transverseSigma(ConfIndex h) const {
-  return std::sqrt(m_hits.varT[h]) * m_hits.radius[h] * m_hits.radius[h];
+  return detail::transverseSigma(m_hits, h);
 }
 
 bool HelixFollower::onLayerOf(std::uint32_t layer, const HelixPath& p) const {

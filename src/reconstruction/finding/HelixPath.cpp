@@ -152,6 +152,29 @@ double helixTheta0(const SensitiveLayer& layer, double minPt, double pt,
   return layerTheta0(layer, std::max(pt, minPt) * norm2(1.0, t), t);
 }
 
+double transverseSigma(const ConformalHits& hits, ConfIndex h) {
+  return std::sqrt(hits.varT[h]) * hits.radius[h] * hits.radius[h];
+}
+
+void predictionErrorInputs(const ConformalHits& hits,
+                           const std::vector<SensitiveLayer>& layers,
+                           std::span<const ConfIndex> path, double minPt,
+                           double pt, double t, std::vector<double>& sigma,
+                           std::vector<double>& kink) {
+  const std::size_t n = path.size();
+  const double secL = norm2(1.0, t);
+  sigma.resize(n);
+  kink.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const ConfIndex h = path[k];
+    sigma[k] = transverseSigma(hits, h);
+    const bool sameCrossing = k > 0 && hits.layer[h] == hits.layer[path[k - 1]];
+    kink[k] = sameCrossing
+                  ? 0.0
+                  : helixTheta0(layers[hits.layer[h]], minPt, pt, t) * secL;
+  }
+}
+
 double circlePt(const TransverseCircle& c, double bz) {
   return constants::kPtPerTeslaMm * std::abs(bz) * c.rho;
 }

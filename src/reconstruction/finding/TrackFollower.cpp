@@ -279,24 +279,9 @@ Follower::RankingModel Follower::rankingModel(const Chain& chain) {
     model.szFilter = true;
   }
   if (m_cuts.uvScattering) {
-    // Each hit's transverse resolution and the transverse kink in its
-    // layer (once per layer crossing: the second hit of an overlap adds
-    // none), as the helix steps take them (HelixFollower).
-    const double secL = norm2(1.0, chain.sz.tanLambda);
-    m_work.uvSigma.resize(n);
-    m_work.uvKink.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const ConfIndex h = path.hits[k];
-      m_work.uvSigma[k] =
-          std::sqrt(m_hits.varT[h]) * m_hits.radius[h] * m_hits.radius[h];
-      const bool sameCrossing =
-          k > 0 && m_hits.layer[h] == m_hits.layer[path.hits[k - 1]];
-      m_work.uvKink[k] =
-          sameCrossing ? 0.0
-                       : helixTheta0(layers[m_hits.layer[h]], kFilterMinPt, pt,
-                                     chain.sz.tanLambda) *
-                             secL;
-    }
+    // As the helix steps take them (HelixFollower::nextCrossing).
+    predictionErrorInputs(m_hits, layers, path.hits, kFilterMinPt, pt,
+                          chain.sz.tanLambda, m_work.uvSigma, m_work.uvKink);
     model.uvScattering =
         m_work.uvError.reset(path.s, m_work.uvSigma, m_work.uvKink);
   }

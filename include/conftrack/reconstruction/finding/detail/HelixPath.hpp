@@ -106,6 +106,21 @@ SzState filterPathSz(const ConformalHits& hits, const HelixPath& p,
 double helixTheta0(const SensitiveLayer& layer, double minPt, double pt,
                    double t);
 
+/// A hit's transverse resolution [mm]: its conformal tangential error
+/// scaled back by R^2.
+double transverseSigma(const ConformalHits& hits, ConfIndex h);
+
+/// HelixPredictionError's inputs for the hits `path` (in the order of the
+/// search): each hit's transverseSigma in `sigma` and, in `kink`, the
+/// transverse scattering angle in its layer (helixTheta0 at pt, floor
+/// minPt, slope t, over cos(lambda)), once per layer crossing (the second
+/// hit of an overlap adds none).
+void predictionErrorInputs(const ConformalHits& hits,
+                           const std::vector<SensitiveLayer>& layers,
+                           std::span<const ConfIndex> path, double minPt,
+                           double pt, double t, std::vector<double>& sigma,
+                           std::vector<double>& kink);
+
 /// Transverse momentum [GeV] of a circle of radius c.rho in the field bz.
 double circlePt(const TransverseCircle& c, double bz);
 
