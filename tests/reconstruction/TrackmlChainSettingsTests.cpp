@@ -153,6 +153,11 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(step("PixelShort").maxCellAngle, 0.03);
   EXPECT_DOUBLE_EQ(step("PixelShort").maxCellAngleRZ, 0.015);
   EXPECT_DOUBLE_EQ(step("PixelStrip").chi2Cut, 1500.0);
+  // PixelStrip keeps tracks of 8 or more hits and leaves the shorter ones
+  // to LowPt (stop 55;
+  // TrackmlChain.PixelStripLeavesItsShortTracksToLowPtAtTheHlLhcLength).
+  EXPECT_EQ(step("PixelStrip").minHits, 8u);
+  EXPECT_GT(step("PixelStrip").minHits, step("LowPt").minHits);
   EXPECT_DOUBLE_EQ(step("PixelShort").vertexWindow, 1.0);
   // Strip seeds reach twice the distance of layers up to 300 mm apart
   // (TrackmlChain.StripSeedsBetweenWiderLayersReachTheSamePolarAngles);
