@@ -111,6 +111,9 @@ TEST(TrackmlChain, ShippedChainSettings) {
   // The low-momentum build and its extension.
   EXPECT_TRUE(step("LowPt").build && step("LowPt").minHits == 6 &&
               step("LowPt").chi2Cut == 3000.0);
+  // Its cells bend by at most 0.03 rad in (u, v), re-scanned at stop 55
+  // (0.04 before: 18 % more cells, a 0.0005 lower score at sigma_z 50 mm).
+  EXPECT_DOUBLE_EQ(step("LowPt").maxCellAngle, 0.03);
   EXPECT_TRUE(step("Strips3").extend && !step("Strips3").build);
   // The prompt builds seed cells bending by at most 0.04 rad (about 0.3
   // GeV from L0 to L1) and leave the slower tracks to LowPt, whose cells

@@ -278,7 +278,8 @@ void expectGainOver(const char* label, const char* beforeLabel,
 
 TEST(TrackmlChain, ScoreOnSimulatedEvent1001) {
   const TrackmlScore score = scoreEvent1001("sigma_z 5.5 mm", std::nullopt);
-  // Measured 0.9064, fake rate 0.0211 since PixelStrip keeps tracks of 8
+  // Measured 0.9068, fake rate 0.0206 since LowPt's cells bend by at most
+  // 0.03 rad; 0.9064, fake rate 0.0211 since PixelStrip keeps tracks of 8
   // hits or more (PixelStripLeavesItsShortTracksToLowPtAtTheHlLhcLength);
   // 0.9051, fake rate 0.0232 since the extensions rank (u, v) with
   // every crossed layer's scattering (extension_uv_scattering;
@@ -364,7 +365,9 @@ TEST(TrackmlChain, ScoreOnSimulatedEvent1001WithHlLhcLength) {
   // The same event with its interactions moved to sigma_z = 50 mm
   // (--luminous-region hllhc): the seeds' z windows follow the vertices
   // found by the vertex-z pre-pass (docs/algorithm.md 3.16), so the score
-  // stays near that of the Kaggle length (measured 0.9014 against 0.9064,
+  // stays near that of the Kaggle length (measured 0.9017 against 0.9068,
+  // fake rate 0.024 against 0.021 since LowPt's cells bend by at most 0.03
+  // rad; 0.9014 against 0.9064,
   // fake rate 0.025 against 0.021 since PixelStrip keeps tracks of 8 hits
   // or more; 0.8985 against 0.9051,
   // fake rate 0.030 against 0.023 with the extensions' scattering models;
@@ -514,7 +517,9 @@ TEST(TrackmlChain, PixelStripLeavesItsShortTracksToLowPtAtTheHlLhcLength) {
   // and the true ones among them are built by LowPt after it, with more of
   // their hits. Five events, sigma_z 5.5 / 50 mm: 0.8999 / 0.8928 ->
   // 0.9015 / 0.8960, fake rate 0.025 / 0.033 -> 0.022 / 0.027. Here event
-  // 1001 at the HL-LHC length against 5: measured 0.8985 -> 0.9014.
+  // 1001 at the HL-LHC length against 5: measured 0.8985 -> 0.9014, fake
+  // rate 0.0304 -> 0.0251 (0.8985 -> 0.9017, 0.0301 -> 0.0243 with LowPt's
+  // cell angle of stop 55).
   // Guarded: +0.0015, the fake rate within issue 15's 5 %.
   const LuminousRegion::Preset* hllhc = LuminousRegion::findPreset("hllhc");
   ASSERT_NE(hllhc, nullptr);
