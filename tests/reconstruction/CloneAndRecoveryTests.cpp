@@ -68,6 +68,42 @@ TEST(CloneTreatment, ReplacesSeveralWorseTracks) {
   EXPECT_EQ(alive(tracks), 1u);
 }
 
+TEST(CloneTreatment, CandidatesOfAStepCompareWithItsTracksAsBuilt) {
+  // Two clones from two seeds of one build step: the first accepted has
+  // since been completed to more hits (its inward extension and overlap
+  // partners), the second has the lower chi2 as built. They are compared
+  // as built (TrackCandidate::builtHits, builtQuality), so the better one
+  // wins whichever seed came first; compared with the completed track, the
+  // first would win by its extra hits alone (TrackML: a forward track
+  // taking a neighbour's innermost pixel hit; CLD: 0.1 % more particles
+  // found above 1 GeV, docs/algorithm.md 3.3).
+  std::vector<TrackCandidate> tracks;
+  detail::CloneIndex index(20);
+  TrackCandidate first = candidate({1, 2, 3, 4}, 5.0);
+  first.builtHits = first.hits.size();
+  first.builtQuality = first.quality();
+  ASSERT_TRUE(index.offer(tracks, first, 2));
+  tracks[0].hits.push_back(10);  // the completion adds two hits
+  tracks[0].hits.push_back(11);
+  TrackCandidate second = candidate({0, 2, 3, 4}, 4.0);
+  EXPECT_TRUE(index.offer(tracks, second, 2));
+  EXPECT_FALSE(tracks[0].alive);
+  // A worse candidate of the step still loses against the track as built.
+  EXPECT_FALSE(index.offer(tracks, candidate({5, 2, 3, 4}, 4.5), 2));
+  // Another step's candidate, or the track after its step (builtHits 0),
+  // meets the completed track: more hits win.
+  TrackCandidate later = candidate({6, 2, 3, 4}, 0.1);
+  later.step = 1;
+  tracks[1].hits.push_back(12);
+  tracks[1].builtHits = second.hits.size();
+  tracks[1].builtQuality = second.quality();
+  EXPECT_FALSE(index.offer(tracks, later, 2));
+  tracks[1].builtHits = 0;
+  later.step = 0;
+  EXPECT_FALSE(index.offer(tracks, later, 2));
+  EXPECT_EQ(alive(tracks), 1u);
+}
+
 /// One step over the synthetic barrel with loose angles.
 FinderConfig oneStep(bool recovery) {
   FinderConfig cfg = test::oneBuildStep();

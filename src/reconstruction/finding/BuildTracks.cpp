@@ -21,6 +21,10 @@
 //   first) or of the leaves (longest first) and is counted in StepStats;
 // - a seed that is already on a track accepted in this step is skipped: its
 //   candidates would be subsets of that track and lose the clone treatment;
+// - a candidate is compared with the clones accepted earlier in the step
+//   as they were built, before their completion added hits (upstream
+//   compares with the completed track, so the seed visited first won a
+//   tie of two clones whatever their chi2: docs/algorithm.md 3.3);
 // - the children of a cell depend only on the cell (its end hit and
 //   direction fix the search window) and the used flags, which change
 //   during a build only where the completion of a new track claims hits.
@@ -115,6 +119,10 @@ void buildTracks(FinderState& state, const FindingStep& step,
     std::sort(candidates.begin(), candidates.end(), betterCandidate);
     for (TrackCandidate& c : candidates) {
       c.step = stepIndex;
+      // The clone treatment compares this step's candidates as built
+      // (CloneIndex::offer), not after the completion of the earlier one.
+      c.builtHits = c.hits.size();
+      c.builtQuality = c.quality();
       if (state.clones.offer(state.tracks, std::move(c),
                              state.config.cloneSharedHits)) {
         auto t = static_cast<std::uint32_t>(state.tracks.size() - 1);
@@ -128,6 +136,7 @@ void buildTracks(FinderState& state, const FindingStep& step,
   }
   for (std::size_t t = firstNew; t < state.tracks.size(); ++t) {
     stats.accepted += state.tracks[t].alive ? 1 : 0;
+    state.tracks[t].builtHits = 0;  // later stages compare the tracks
   }
 }
 

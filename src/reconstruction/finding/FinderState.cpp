@@ -29,6 +29,17 @@ bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b) {
   return a.hits < b.hits;
 }
 
+bool betterThanBuilt(const TrackCandidate& a, const TrackCandidate& b) {
+  if (a.hits.size() != b.builtHits) {
+    return a.hits.size() > b.builtHits;
+  }
+  const double qa = a.quality();
+  if (qa != b.builtQuality) {
+    return qa < b.builtQuality;
+  }
+  return a.hits < b.hits;
+}
+
 bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
                        TrackCandidate candidate, std::uint32_t minShared) {
   // Count shared hits per alive track (candidates have few hits: a small
@@ -55,7 +66,11 @@ bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
   m_killed.clear();
   for (const auto& [t, n] : shared) {
     if (n >= minShared) {
-      if (!betterCandidate(candidate, tracks[t])) {
+      const TrackCandidate& other = tracks[t];
+      const bool better = other.builtHits > 0 && other.step == candidate.step
+                              ? betterThanBuilt(candidate, other)
+                              : betterCandidate(candidate, other);
+      if (!better) {
         m_killed.clear();
         return false;
       }

@@ -32,6 +32,14 @@ struct TrackCandidate {
   /// of its fits.
   std::vector<ConfIndex> turnHits;
 
+  /// The candidate as its build step made it, before the completion of the
+  /// accepted track (inward extension, hole filling, overlap hits) added
+  /// hits: its number of hits and quality(). Set while its step runs, 0
+  /// after it; the clone treatment compares a new candidate of the step
+  /// with these (detail::CloneIndex::offer).
+  std::size_t builtHits = 0;
+  double builtQuality = 0.0;
+
   /// chi2_uv/ndf + chi2_sz/ndf (upstream.md 7.4, linear sum).
   double quality() const { return uv.chi2PerNdf() + sz.chi2PerNdf(); }
 };

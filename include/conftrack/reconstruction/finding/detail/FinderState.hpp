@@ -21,9 +21,17 @@ namespace conftrack::detail {
 /// chi2_uv/ndf + chi2_sz/ndf, then the hit lists (deterministic ties).
 bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b);
 
+/// betterCandidate of candidate `a` against track `b` as its build made it
+/// (TrackCandidate::builtHits and builtQuality): more hits, then lower
+/// quality, then the hit lists.
+bool betterThanBuilt(const TrackCandidate& a, const TrackCandidate& b);
+
 /// Clone treatment (upstream.md 8, step 5, made order-independent): a new
 /// candidate sharing at least `minShared` hits with accepted tracks replaces
-/// them if it is better than each of them, and is dropped otherwise.
+/// them if it is better than each of them, and is dropped otherwise. A
+/// track accepted earlier in the same build step (same step, builtHits set)
+/// is judged as built (betterThanBuilt): its completion's hits would
+/// otherwise decide for the seed visited first.
 class CloneIndex {
  public:
   explicit CloneIndex(std::size_t nHits) : m_hitTracks(nHits) {}
