@@ -22,9 +22,9 @@
 // - a seed that is already on a track accepted in this step is skipped: its
 //   candidates would be subsets of that track and lose the clone treatment;
 // - a candidate is compared with the clones accepted earlier in the step
-//   as they were built, before their completion added hits (upstream
-//   compares with the completed track, so the seed visited first won a
-//   tie of two clones whatever their chi2: docs/algorithm.md 3.3);
+//   as they were built, before their completion added hits (compared with
+//   the completed track, the seed visited first won a tie of two clones
+//   whatever their chi2: docs/algorithm.md 3.3);
 // - the children of a cell depend only on the cell (its end hit and
 //   direction fix the search window) and the used flags, which change
 //   during a build only where the completion of a new track claims hits.
