@@ -90,17 +90,16 @@ TEST(CloneTreatment, CandidatesOfAStepCompareWithItsTracksAsBuilt) {
   EXPECT_FALSE(tracks[0].alive);
   // A worse candidate of the step still loses against the track as built.
   EXPECT_FALSE(index.offer(tracks, candidate({5, 2, 3, 4}, 4.5), 2));
-  // Another step's candidate, or the track after its step (builtHits 0),
-  // meets the completed track: more hits win.
-  TrackCandidate later = candidate({6, 2, 3, 4}, 0.1);
-  later.step = 1;
+  // After its step (builtHits cleared) a track meets later candidates
+  // completed: more hits win, a lower chi2 does not.
   tracks[1].hits.push_back(12);
   tracks[1].builtHits = second.hits.size();
   tracks[1].builtQuality = second.quality();
-  EXPECT_FALSE(index.offer(tracks, later, 2));
-  tracks[1].builtHits = 0;
-  later.step = 0;
-  EXPECT_FALSE(index.offer(tracks, later, 2));
+  EXPECT_TRUE(index.offer(tracks, candidate({6, 2, 3, 4}, 0.1), 2));
+  EXPECT_FALSE(tracks[1].alive);
+  tracks[2].hits.push_back(13);
+  tracks[2].builtHits = 0;
+  EXPECT_FALSE(index.offer(tracks, candidate({7, 2, 3, 4}, 0.01), 2));
   EXPECT_EQ(alive(tracks), 1u);
 }
 

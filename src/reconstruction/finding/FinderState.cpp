@@ -17,27 +17,29 @@ double layerTheta0(const SensitiveLayer& layer, double p, double tanLambda) {
   return highlandTheta0(p, 1.0, 1.0, layer.thicknessX0 * std::min(path, 10.0));
 }
 
-bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b) {
-  if (a.hits.size() != b.hits.size()) {
-    return a.hits.size() > b.hits.size();
+namespace {
+/// The order of betterCandidate on (number of hits, quality) of a and b,
+/// the hit lists breaking ties.
+bool betterOn(std::size_t hitsA, double qualityA, std::size_t hitsB,
+              double qualityB, const TrackCandidate& a,
+              const TrackCandidate& b) {
+  if (hitsA != hitsB) {
+    return hitsA > hitsB;
   }
-  double qa = a.quality();
-  double qb = b.quality();
-  if (qa != qb) {
-    return qa < qb;
+  if (qualityA != qualityB) {
+    return qualityA < qualityB;
   }
   return a.hits < b.hits;
 }
+}  // namespace
+
+bool betterCandidate(const TrackCandidate& a, const TrackCandidate& b) {
+  return betterOn(a.hits.size(), a.quality(), b.hits.size(), b.quality(), a, b);
+}
 
 bool betterThanBuilt(const TrackCandidate& a, const TrackCandidate& b) {
-  if (a.hits.size() != b.builtHits) {
-    return a.hits.size() > b.builtHits;
-  }
-  const double qa = a.quality();
-  if (qa != b.builtQuality) {
-    return qa < b.builtQuality;
-  }
-  return a.hits < b.hits;
+  return betterOn(a.hits.size(), a.quality(), b.builtHits, b.builtQuality, a,
+                  b);
 }
 
 bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
@@ -67,7 +69,8 @@ bool CloneIndex::offer(std::vector<TrackCandidate>& tracks,
   for (const auto& [t, n] : shared) {
     if (n >= minShared) {
       const TrackCandidate& other = tracks[t];
-      const bool better = other.builtHits > 0 && other.step == candidate.step
+      // builtHits is set only on the tracks of the build step now running.
+      const bool better = other.builtHits > 0
                               ? betterThanBuilt(candidate, other)
                               : betterCandidate(candidate, other);
       if (!better) {

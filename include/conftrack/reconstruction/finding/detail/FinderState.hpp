@@ -29,9 +29,9 @@ bool betterThanBuilt(const TrackCandidate& a, const TrackCandidate& b);
 /// Clone treatment (upstream.md 8, step 5, made order-independent): a new
 /// candidate sharing at least `minShared` hits with accepted tracks replaces
 /// them if it is better than each of them, and is dropped otherwise. A
-/// track accepted earlier in the same build step (same step, builtHits set)
-/// is judged as built (betterThanBuilt): its completion's hits would
-/// otherwise decide for the seed visited first.
+/// track accepted earlier in the same build step (builtHits set: buildTracks
+/// clears it when the step ends) is judged as built (betterThanBuilt): its
+/// completion's hits would otherwise decide for the seed visited first.
 class CloneIndex {
  public:
   explicit CloneIndex(std::size_t nHits) : m_hitTracks(nHits) {}
