@@ -239,6 +239,7 @@ py::dict statistics(const ResultHandle& r) {
   d["candidates"] = r.result.candidates;
   d["fit_failures"] = r.result.fitFailures;
   d["second_pass_tracks"] = r.result.secondPassTracks;
+  d["reassigned_hits"] = r.result.reassignedHits;
   d["finding_ms"] = r.result.findingMs;
   d["fitting_ms"] = r.result.fittingMs;
   d["selection_ms"] = r.result.selectionMs;

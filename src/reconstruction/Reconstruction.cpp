@@ -34,6 +34,7 @@ Reconstruction::Reconstruction(
       m_finder(detector, {m_config.chain}),
       m_fitter(detector, m_config.fitter, sensors),
       m_merger(m_fitter, m_config.merger),
+      m_reassigner(m_fitter, m_config.reassigner),
       m_selector(selectorConfig(m_config)) {
   if (auto p =
           findSecondPassProblem(m_config.secondPassSteps, m_config.chain)) {
@@ -125,9 +126,22 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   r.vertexRegions = std::move(found.vertexRegions);
   r.beamSpot = found.beamSpot;
   fitAndSelect(hits, std::move(found.tracks), r);
-  if (m_config.secondPassSteps.empty()) {
-    return r;
+  if (!m_config.secondPassSteps.empty()) {
+    secondPass(hits, r);
   }
+  if (m_config.fit && m_config.reassigner.enabled) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    HitReassigner::Result moved = m_reassigner.run(hits, std::move(r.tracks));
+    r.tracks = std::move(moved.tracks);
+    r.reassignedHits = moved.outliersMoved + moved.freeHitsAdded;
+    r.fittingMs +=
+        std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  }
+  return r;
+}
+
+void Reconstruction::secondPass(std::span<const Hit> hits, Result& r) const {
   // The second pass: the chosen steps over the hits no selected track
   // holds, the dropped candidates' hits among them.
   std::vector<std::uint8_t> taken(hits.size(), 0);
@@ -147,7 +161,6 @@ Reconstruction::Result Reconstruction::run(std::span<const Hit> hits) const {
   const std::size_t before = r.tracks.size();
   fitAndSelect(hits, std::move(second.tracks), r);
   r.secondPassTracks = r.tracks.size() - before;
-  return r;
 }
 
 }  // namespace conftrack

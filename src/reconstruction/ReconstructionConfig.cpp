@@ -89,6 +89,41 @@ SplitTrackMerger::Config readSplitMerging(const ConfigTable& t,
   return c;
 }
 
+/// The [hit_reassignment] table over `defaults` (HitReassigner::Config),
+/// checked by findProblem with the message located at the key.
+HitReassigner::Config readHitReassignment(const ConfigTable& t,
+                                          HitReassigner::Config c) {
+  c.enabled = t.getBool("enabled", c.enabled);
+  c.freeHits = t.getBool("free_hits", c.freeHits);
+  c.maxEndDistance =
+      t.getDouble("max_end_distance_mm", c.maxEndDistance / units::mm,
+                  Range::positiveFinite()) *
+      units::mm;
+  c.maxTransverse =
+      t.getDouble("max_transverse_mm", c.maxTransverse / units::mm,
+                  Range::positiveFinite()) *
+      units::mm;
+  c.maxLongitudinal =
+      t.getDouble("max_longitudinal_mm", c.maxLongitudinal / units::mm,
+                  Range::positiveFinite()) *
+      units::mm;
+  c.maxPredictedChi2 = t.getDouble("max_predicted_chi2", c.maxPredictedChi2,
+                                   Range::positiveFinite());
+  c.scatteringPerMetre =
+      t.getDouble("scattering_mm_per_m_gev", c.scatteringPerMetre / units::mm,
+                  Range::positiveFinite()) *
+      units::mm;
+  c.refitsPerHit = static_cast<int>(
+      t.getInt("refits_per_hit", c.refitsPerHit, Range::closed(1, 16)));
+  c.maxChi2Increase = t.getDouble("max_chi2_increase", c.maxChi2Increase,
+                                  Range::positiveFinite());
+  t.rejectUnknownKeys();
+  if (std::optional<HitReassigner::Problem> p = HitReassigner::findProblem(c)) {
+    t.fail(p->key, p->what);
+  }
+  return c;
+}
+
 /// The [second_pass] table: names of the chain's steps (`chain`), checked
 /// by Reconstruction::findSecondPassProblem with the message located at the
 /// key.
@@ -113,6 +148,10 @@ Reconstruction::Config readReconstructionTable(const ConfigTable& root,
   }
   if (std::optional<ConfigTable> merging = root.findTable("split_merging")) {
     config.merger = readSplitMerging(*merging, config.merger);
+  }
+  if (std::optional<ConfigTable> reassignment =
+          root.findTable("hit_reassignment")) {
+    config.reassigner = readHitReassignment(*reassignment, config.reassigner);
   }
   if (std::optional<ConfigTable> second = root.findTable("second_pass")) {
     config.secondPassSteps = readSecondPass(*second, config.chain);

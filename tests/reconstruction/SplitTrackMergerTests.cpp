@@ -13,7 +13,6 @@
 #include "conftrack/reconstruction/Reconstruction.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
 #include "conftrack/reconstruction/selection/SplitTrackMerger.hpp"
-#include "conftrack/simulation/Simulator.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,57 +22,23 @@
 #include <string>
 #include <vector>
 
+#include "ClicdetParticles.hpp"
+
 namespace conftrack {
 namespace {
 
-const Detector& clicdet() {
-  static const Detector detector = loadDetector("clicdet");
-  return detector;
-}
+const Detector& clicdet() { return test::clicdetDetector(); }
 
 const KalmanFitter& fitter() {
   static const KalmanFitter f(clicdet());
   return f;
 }
 
-/// A pion of charge `charge` and transverse momentum `pt` [GeV] at
-/// azimuth `phi` and polar angle `theta` from `vertex` [mm].
-Particle pion(std::uint64_t id, double pt, double phi, double theta,
-              const Vector3& vertex, double charge = 1.0) {
-  Particle p;
-  p.id = id;
-  p.pdg = charge > 0.0 ? 211 : -211;
-  p.charge = charge;
-  p.vertex = vertex;
-  p.momentum =
-      Vector3(pt * std::cos(phi), pt * std::sin(phi), pt / std::tan(theta));
-  return p;
-}
-
-/// The event of `particles` in CLICdet and each particle's hit indices in
-/// the order of their times (the path order).
-struct Simulated {
-  Event event;
-  std::vector<std::vector<HitIndex>> byParticle;
-};
+using test::pion;
+using Simulated = test::SimulatedParticles;
 
 Simulated simulate(const std::vector<Particle>& particles) {
-  Simulated s;
-  RandomEngine rng = makeEngine(3, 0, RandomStream::eSimulation);
-  Simulator(clicdet()).simulate(particles, rng, s.event);
-  s.byParticle.resize(particles.size());
-  for (std::size_t p = 0; p < particles.size(); ++p) {
-    for (HitIndex h = 0; h < s.event.hits.size(); ++h) {
-      if (s.event.truth[h].particleId == particles[p].id) {
-        s.byParticle[p].push_back(h);
-      }
-    }
-    std::sort(s.byParticle[p].begin(), s.byParticle[p].end(),
-              [&](HitIndex a, HitIndex b) {
-                return s.event.truth[a].time < s.event.truth[b].time;
-              });
-  }
-  return s;
+  return test::simulateInClicdet(particles, 3);
 }
 
 /// The fitted track of some of a particle's hits, [first, last), its

@@ -102,8 +102,18 @@ TEST(TrackmlChain, ShippedChainSettings) {
   EXPECT_DOUBLE_EQ(strips.continueChi2Cut, 18.0);
   EXPECT_DOUBLE_EQ(strips.maxCellAngleRZ, helix.maxCellAngleRZ);
   // The selection judges the strip helix step's 5-hit tracks.
-  const TrackSelector::Config selection =
-      readReconstructionConfig(resolveChainPath("trackml"), detector).selector;
+  const Reconstruction::Config reconstruction =
+      readReconstructionConfig(resolveChainPath("trackml"), detector);
+  const TrackSelector::Config& selection = reconstruction.selector;
+  // Hits of no track and outliers given to the track whose end they
+  // continue, with the class's windows and cuts (docs/algorithm.md 10.2).
+  EXPECT_TRUE(reconstruction.reassigner.enabled);
+  EXPECT_TRUE(reconstruction.reassigner.freeHits);
+  EXPECT_DOUBLE_EQ(reconstruction.reassigner.maxTransverse, 5.0);
+  EXPECT_DOUBLE_EQ(reconstruction.reassigner.maxLongitudinal, 10.0);
+  EXPECT_DOUBLE_EQ(reconstruction.reassigner.maxPredictedChi2, 12.0);
+  EXPECT_DOUBLE_EQ(reconstruction.reassigner.maxChi2Increase, 12.0);
+  EXPECT_EQ(reconstruction.reassigner.refitsPerHit, 1);
   EXPECT_EQ(selection.minUniqueHits, 6u);
   EXPECT_EQ(selection.shortTrackHits, 6u);
   EXPECT_DOUBLE_EQ(selection.shortTrackMaxChi2Ndf, 2.0);

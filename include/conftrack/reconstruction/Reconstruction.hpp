@@ -11,6 +11,7 @@
 #include "conftrack/geometry/ModuleLayout.hpp"
 #include "conftrack/reconstruction/finding/ConformalTrackFinder.hpp"
 #include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
+#include "conftrack/reconstruction/selection/HitReassigner.hpp"
 #include "conftrack/reconstruction/selection/SplitTrackMerger.hpp"
 #include "conftrack/reconstruction/selection/TrackSelector.hpp"
 
@@ -46,6 +47,10 @@ class Reconstruction {
     /// Merging split tracks after the fit, before the selection (chain
     /// file [split_merging]; off by default).
     SplitTrackMerger::Config merger;
+    /// Outlier hits and hits of no track given to the fitted track whose
+    /// end they continue, after both passes (chain file
+    /// [hit_reassignment]; off by default).
+    HitReassigner::Config reassigner;
     /// Fit the candidates; without it the tracks carry only the finder's
     /// estimates and the selection keeps unfitted tracks.
     bool fit = true;
@@ -76,8 +81,11 @@ class Reconstruction {
     std::size_t fitFailures = 0;
     /// Pairs of pieces merged after the fit (SplitTrackMerger).
     std::size_t splitMerges = 0;
+    /// Hits moved or added by the hit reassignment (HitReassigner).
+    std::size_t reassignedHits = 0;
     double findingMs = 0.0;
-    /// The fit, with the refits of the split-track merging.
+    /// The fit, with the refits of the split-track merging and of the hit
+    /// reassignment.
     double fittingMs = 0.0;
     double selectionMs = 0.0;
   };
@@ -109,11 +117,15 @@ class Reconstruction {
   /// the pass's beam line r.beamSpot.
   void fitAndSelect(std::span<const Hit> hits, std::vector<FoundTrack> found,
                     Result& r) const;
+  /// The second pass (Config::secondPassSteps) over the hits that no
+  /// track of `r` holds; its tracks are appended to r.tracks.
+  void secondPass(std::span<const Hit> hits, Result& r) const;
 
   Config m_config;
   ConformalTrackFinder m_finder;
   KalmanFitter m_fitter;
   SplitTrackMerger m_merger;
+  HitReassigner m_reassigner;
   TrackSelector m_selector;
 };
 

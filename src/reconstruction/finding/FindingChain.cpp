@@ -281,12 +281,13 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
   if (beamPrepass) {
     cfg.beamSpotPrepass = readBeamSpotPrepass(*beamPrepass, detector);
   }
-  // [selection], [split_merging] and [second_pass] belong to the track
-  // selection, the merging after the fit and the pass after the selection
-  // of the same file (readReconstructionConfig); the finder has no use for
-  // them.
+  // [selection], [split_merging], [second_pass] and [hit_reassignment]
+  // belong to the track selection, the merging after the fit, the pass
+  // after the selection and the stage after both passes of the same file
+  // (readReconstructionConfig); the finder has no use for them.
   (void)root.findTable("selection");
   (void)root.findTable("split_merging");
+  (void)root.findTable("hit_reassignment");
   (void)root.findTable("second_pass");
   std::vector<ConfigTable> steps = root.getTableArray("step");
   for (const ConfigTable& step : steps) {
