@@ -7,6 +7,7 @@
 
 #include "conftrack/core/Random.hpp"
 #include "conftrack/geometry/DetectorReader.hpp"
+#include "conftrack/reconstruction/fitting/KalmanFitter.hpp"
 #include "conftrack/simulation/Simulator.hpp"
 
 #include <algorithm>
@@ -19,6 +20,12 @@ namespace conftrack::test {
 inline const Detector& clicdetDetector() {
   static const Detector detector = loadDetector("clicdet");
   return detector;
+}
+
+/// The Kalman fitter of CLICdet with its defaults.
+inline const KalmanFitter& clicdetFitter() {
+  static const KalmanFitter fitter(clicdetDetector());
+  return fitter;
 }
 
 /// A pion of charge `charge` and transverse momentum `pt` [GeV] at

@@ -32,16 +32,10 @@
 namespace conftrack {
 namespace {
 
-const Detector& clicdet() { return test::clicdetDetector(); }
-
-const KalmanFitter& fitter() {
-  static const KalmanFitter f(clicdet());
-  return f;
-}
-
+using test::clicdetDetector;
 using test::pion;
 using Simulated = test::SimulatedParticles;
-
+const KalmanFitter& fitter() { return test::clicdetFitter(); }
 Simulated simulate(const std::vector<Particle>& particles) {
   return test::simulateInClicdet(particles, 5);
 }
@@ -175,7 +169,7 @@ TEST(HitReassigner, RejectsNonsenseSettings) {
 TEST(HitReassigner, ChainTable) {
   const std::string step = minimalStep("VertexBarrel");
   const Reconstruction::Config plain =
-      parseReconstructionConfig(step, "c.toml", clicdet());
+      parseReconstructionConfig(step, "c.toml", clicdetDetector());
   EXPECT_FALSE(plain.reassigner.enabled);
   const Reconstruction::Config c = parseReconstructionConfig(
       "[hit_reassignment]\nenabled = true\nfree_hits = true\n"
@@ -184,7 +178,7 @@ TEST(HitReassigner, ChainTable) {
       "scattering_mm_per_m_gev = 2.0\nrefits_per_hit = 2\n"
       "max_chi2_increase = 14.0\n" +
           step,
-      "c.toml", clicdet());
+      "c.toml", clicdetDetector());
   EXPECT_TRUE(c.reassigner.enabled);
   EXPECT_TRUE(c.reassigner.freeHits);
   EXPECT_DOUBLE_EQ(c.reassigner.maxEndDistance, 400.0 * units::mm);
@@ -203,7 +197,7 @@ TEST(HitReassigner, ChainTable) {
     const std::string& key = textAndKey.second;
     const std::string what = test::inputErrorOf([&] {
       parseReconstructionConfig("[hit_reassignment]\n" + text + "\n" + step,
-                                "c.toml", clicdet());
+                                "c.toml", clicdetDetector());
     });
     EXPECT_NE(what.find("c.toml:2"), std::string::npos) << what;
     EXPECT_NE(what.find(key), std::string::npos) << what;

@@ -27,16 +27,10 @@
 namespace conftrack {
 namespace {
 
-const Detector& clicdet() { return test::clicdetDetector(); }
-
-const KalmanFitter& fitter() {
-  static const KalmanFitter f(clicdet());
-  return f;
-}
-
+using test::clicdetDetector;
 using test::pion;
 using Simulated = test::SimulatedParticles;
-
+const KalmanFitter& fitter() { return test::clicdetFitter(); }
 Simulated simulate(const std::vector<Particle>& particles) {
   return test::simulateInClicdet(particles, 3);
 }
@@ -142,26 +136,27 @@ TEST(SplitTrackMerger, PiecesOfTwoParticlesStayApart) {
 TEST(SplitTrackMerger, ChainFileTableIsReadAndChecked) {
   // Off by default; the shipped CLICdet chain switches it on.
   EXPECT_FALSE(SplitTrackMerger::Config{}.enabled);
-  EXPECT_TRUE(readReconstructionConfig(resolveChainPath("clicdet"), clicdet())
-                  .merger.enabled);
+  EXPECT_TRUE(
+      readReconstructionConfig(resolveChainPath("clicdet"), clicdetDetector())
+          .merger.enabled);
   // A chain of the shipped one's finder and first step, and the table.
   const std::string shipped =
       readTextFile(resolveChainPath("clicdet").string());
   const std::string base =
       shipped.substr(0, shipped.find("[[step]]", shipped.find("[[step]]") + 1));
-  EXPECT_FALSE(
-      parseReconstructionConfig(base, "chain.toml", clicdet()).merger.enabled);
+  EXPECT_FALSE(parseReconstructionConfig(base, "chain.toml", clicdetDetector())
+                   .merger.enabled);
   const Reconstruction::Config on = parseReconstructionConfig(
       base +
           "[split_merging]\nenabled = true\nmax_parameter_chi2 = 20.0\n"
           "max_same_layer_distance_mm = 4.0\n",
-      "chain.toml", clicdet());
+      "chain.toml", clicdetDetector());
   EXPECT_TRUE(on.merger.enabled);
   EXPECT_DOUBLE_EQ(on.merger.maxParameterChi2, 20.0);
   EXPECT_DOUBLE_EQ(on.merger.maxSameLayerDistance, 4.0 * units::mm);
   try {
     parseReconstructionConfig(base + "[split_merging]\nmax_chi2_ratio = 0.5\n",
-                              "chain.toml", clicdet());
+                              "chain.toml", clicdetDetector());
     FAIL() << "a chi2 ratio below 1 was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("max_chi2_ratio"), std::string::npos)
@@ -169,7 +164,7 @@ TEST(SplitTrackMerger, ChainFileTableIsReadAndChecked) {
   }
   EXPECT_THROW(
       parseReconstructionConfig(base + "[split_merging]\nmax_chi2 = 3.0\n",
-                                "chain.toml", clicdet()),
+                                "chain.toml", clicdetDetector()),
       InputError);
   SplitTrackMerger::Config bad = enabled();
   bad.maxPhi0Difference = 4.0;
