@@ -65,6 +65,11 @@ Outcome reconstruct(const Event& event, bool finalExtension) {
         EXPECT_TRUE(config.chain.finalExtension)
             << "the shipped chain has no final extension";
         config.chain.finalExtension = finalExtension;
+        // The hit reassignment after the fit (algorithm.md 10.2) takes
+        // most of the same hits when the final extension is off: event
+        // 1001 0.9085 -> 0.9088 with both. The finder's own stage is
+        // measured without it.
+        config.reassigner.enabled = false;
       });
   Outcome out;
   out.score = scoreTrackml(event, test::hitLists(result.tracks));
@@ -106,7 +111,8 @@ TEST(FinalExtension, TakesTheFurtherHitsOfFoundParticles) {
   EXPECT_EQ(at - 1, indexOf(with.stages, "SharedHits"));
   EXPECT_EQ(indexOf(without.stages, "EndExtension"), -1);
   // Measured: 128 hits taken; score 0.8945 -> 0.8954, fake rate 0.0160 ->
-  // 0.0157 (five events: +0.0010 at sigma_z 5.5 mm, +0.0008 at 50 mm).
+  // 0.0157 (five events: +0.0010 at sigma_z 5.5 mm, +0.0008 at 50 mm);
+  // at stop 56, without the hit reassignment, 143 hits, 0.9054 -> 0.9062.
   // Guarded at about half the gain, and the fake rate no higher.
   EXPECT_GT(with.extendedHits, 100u);
   EXPECT_GE(with.score.score - without.score.score, 0.0005);
