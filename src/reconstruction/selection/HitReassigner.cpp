@@ -369,8 +369,9 @@ HitReassigner::Result HitReassigner::run(std::span<const Hit> hits,
     result.tracks = std::move(tracks);
     return result;
   }
-  // Who holds each hit (the first track in order).
+  // Who holds each hit (the first track in order) and how many do.
   std::vector<std::uint32_t> holder(hits.size(), kNoTrack);
+  std::vector<std::uint8_t> holders(hits.size(), 0);
   for (std::uint32_t t = 0; t < tracks.size(); ++t) {
     for (HitIndex h : tracks[t].hits) {
       if (h >= hits.size()) {
@@ -379,18 +380,20 @@ HitReassigner::Result HitReassigner::run(std::span<const Hit> hits,
       if (holder[h] == kNoTrack) {
         holder[h] = t;
       }
+      holders[h] = static_cast<std::uint8_t>(std::min(holders[h] + 1, 2));
     }
   }
-  // The hits on offer: outliers of fitted tracks and, if asked, hits of no
-  // track.
+  // The hits on offer: if asked, hits of no track, and the outliers of
+  // fitted tracks that no other track holds (a hit that another track
+  // fits is that track's).
   std::vector<std::uint8_t> available(hits.size(), 0);
   for (HitIndex h = 0; h < hits.size(); ++h) {
-    available[h] = m_config.freeHits && holder[h] == kNoTrack ? 1 : 0;
+    available[h] = m_config.freeHits && holders[h] == 0 ? 1 : 0;
   }
   for (const Track& t : tracks) {
     if (t.fitted && t.outlier.size() == t.hits.size()) {
       for (std::size_t k = 0; k < t.hits.size(); ++k) {
-        if (t.outlier[k] == kOutlierHit) {
+        if (t.outlier[k] == kOutlierHit && holders[t.hits[k]] == 1) {
           available[t.hits[k]] = 1;
         }
       }
