@@ -103,11 +103,17 @@ TEST(HitReassigner, FreeHitsBeyondATracksEndsJoinItInPathOrder) {
             0);
 }
 
+/// Two 2 GeV pions 0.06 rad apart: a hit of one is an outlier of a fit of
+/// the other.
+Simulated neighbours() {
+  return simulate({pion(1, 2.0, 0.40, 80.0 * units::degree),
+                   pion(2, 2.0, 0.46, 80.0 * units::degree)});
+}
+
 TEST(HitReassigner, AnOutlierThatContinuesAnotherTrackMovesToIt) {
   // Track A ran on past its particle's end and took a neighbour's hit,
   // which its fit rejects; the neighbour's track B ends one layer short.
-  const Simulated s = simulate({pion(1, 2.0, 0.40, 80.0 * units::degree),
-                                pion(2, 2.0, 0.46, 80.0 * units::degree)});
+  const Simulated s = neighbours();
   const std::vector<HitIndex>& a = s.byParticle[0];
   const std::vector<HitIndex>& b = s.byParticle[1];
   ASSERT_GE(a.size(), 8u);
@@ -144,8 +150,7 @@ TEST(HitReassigner, AnOutlierThatAnotherTrackFitsStays) {
   // Track A fits the particle's last hit; track B, another particle's,
   // holds it as an outlier; track C, a copy of A without it, ends a layer
   // short. The hit is A's: it is not offered, and A keeps it.
-  const Simulated s = simulate({pion(1, 2.0, 0.40, 80.0 * units::degree),
-                                pion(2, 2.0, 0.46, 80.0 * units::degree)});
+  const Simulated s = neighbours();
   const std::vector<HitIndex>& a = s.byParticle[0];
   const std::vector<HitIndex>& b = s.byParticle[1];
   ASSERT_GE(a.size(), 8u);
