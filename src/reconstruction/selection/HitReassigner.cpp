@@ -17,25 +17,12 @@ namespace {
 
 bool positiveFinite(double x) { return x > 0.0 && std::isfinite(x); }
 
-/// A track that can take a hit: fitted, with no further-turn hits (a
-/// looper's turns are the finder's business).
+/// A track that can take a hit: fitted with a measurement to spare (so
+/// with fitted hits at both ends), without further-turn hits (a looper's
+/// turns are the finder's business).
 bool eligible(const Track& t) {
   return t.fitted && t.ndf > 0 && t.outlier.size() == t.hits.size() &&
-         std::none_of(t.outlier.begin(), t.outlier.end(),
-                      [](std::uint8_t u) { return u == kTurnHit; });
-}
-
-/// Index in t.hits of its first (`last` false) or last fitted hit; the
-/// size of t.hits if it has none.
-std::size_t endHit(const Track& t, bool last) {
-  const std::size_t n = t.hits.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = last ? n - 1 - k : k;
-    if (t.outlier[i] == kFittedHit) {
-      return i;
-    }
-  }
-  return n;
+         t.numTurnHits() == 0;
 }
 
 /// Side of the grid cells of the offered hits [mm], and the step of the
@@ -49,8 +36,6 @@ struct Pair {
   double chi2 = 0.0;
   std::uint32_t track = 0;
   bool last = false;
-  /// Transverse arc length from the end's state to the hit [mm].
-  double arc = 0.0;
 };
 
 /// The point at transverse arc length s from the PCA of `state` (LCIO
@@ -150,12 +135,13 @@ std::optional<Pair> predictPair(const HitReassigner::Config& config,
   pair.hit = h;
   pair.chi2 = chi2;
   pair.last = last;
-  pair.arc = s;
   return pair;
 }
 
 /// Where hit pair.hit goes among track.hits: past the hits of that end
-/// whose arc length from the end's state is beyond the hit's.
+/// whose arc length from the end's state is beyond the hit's. The state is
+/// the track's now: it may have taken a hit at that end since the pair was
+/// found.
 std::size_t insertionPoint(std::span<const Hit> hits, const Track& track,
                            const Pair& pair) {
   const TrackState& state = pair.last ? track.atLastHit : track.atFirstHit;
@@ -164,13 +150,14 @@ std::size_t insertionPoint(std::span<const Hit> hits, const Track& track,
     return movePivot(state.parameters, state.reference, hits[h].position, 0.0,
                      moved);
   };
+  const double arc = arcOf(pair.hit);
   std::size_t at = pair.last ? track.hits.size() : 0;
   if (pair.last) {
-    while (at > 0 && arcOf(track.hits[at - 1]) > pair.arc) {
+    while (at > 0 && arcOf(track.hits[at - 1]) > arc) {
       --at;
     }
   } else {
-    while (at < track.hits.size() && arcOf(track.hits[at]) < pair.arc) {
+    while (at < track.hits.size() && arcOf(track.hits[at]) < arc) {
       ++at;
     }
   }
@@ -297,9 +284,6 @@ void collectPairs(const HitReassigner::Config& config,
       continue;
     }
     for (const bool last : {false, true}) {
-      if (endHit(track, last) == track.hits.size()) {
-        continue;
-      }
       const TrackState& state = last ? track.atLastHit : track.atFirstHit;
       ++visit;
       walkHelix(

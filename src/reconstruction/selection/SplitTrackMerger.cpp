@@ -64,8 +64,7 @@ double chi2PerNdf(const Track& t) {
 /// further-turn hits (a looper's turns are the finder's business).
 bool mergeable(const Track& t) {
   return t.fitted && t.ndf > 0 && t.outlier.size() == t.hits.size() &&
-         std::none_of(t.outlier.begin(), t.outlier.end(),
-                      [](std::uint8_t u) { return u == kTurnHit; });
+         t.numTurnHits() == 0;
 }
 
 }  // namespace
