@@ -94,6 +94,7 @@ FinderConfig unlimited(FinderConfig cfg) {
   cfg.maxWindowHits = big;
   cfg.maxCachedCells = big;
   cfg.maxCellsPerHit = big;
+  cfg.maxTripletsPerSeed = big;
   return cfg;
 }
 
@@ -339,7 +340,8 @@ TEST(Guards, ZeroIsRejected) {
   EXPECT_EQ(problem->key, "finder.max_cached_cells");
   for (const char* key :
        {"max_seed_neighbours", "max_cell_neighbours", "max_leaves_per_seed",
-        "max_window_hits", "max_cached_cells", "max_cells_per_hit"}) {
+        "max_window_hits", "max_cached_cells", "max_cells_per_hit",
+        "max_triplets_per_seed"}) {
     const std::string text =
         std::string("[finder]\n") + key + " = 0\n" + minimalStep("Barrel");
     try {
@@ -356,7 +358,8 @@ TEST(Guards, ChainKeysAreRead) {
   const FinderConfig cfg = parseChain(
       "[finder]\nmax_seed_neighbours = 7\nmax_cell_neighbours = 6\n"
       "max_leaves_per_seed = 5\nmax_window_hits = 4\n"
-      "max_cached_cells = 5000\nmax_cells_per_hit = 3\n" +
+      "max_cached_cells = 5000\nmax_cells_per_hit = 3\n"
+      "max_triplets_per_seed = 11\n" +
           minimalStep("Barrel") + "max_paths = 9\nmax_cells_per_hit = 8\n",
       "dense.toml", det);
   EXPECT_EQ(cfg.maxSeedNeighbours, 7u);
@@ -365,6 +368,7 @@ TEST(Guards, ChainKeysAreRead) {
   EXPECT_EQ(cfg.maxWindowHits, 4u);
   EXPECT_EQ(cfg.maxCachedCells, 5000u);
   EXPECT_EQ(cfg.maxCellsPerHit, 3u);
+  EXPECT_EQ(cfg.maxTripletsPerSeed, 11u);
   EXPECT_EQ(cfg.steps[0].maxPaths, 9u);
   EXPECT_EQ(cfg.steps[0].maxCellsPerHit, 8u);
   EXPECT_EQ(cfg.cellsPerHitOf(cfg.steps[0]), 8u);
@@ -385,6 +389,47 @@ TEST(Guards, ChainKeysAreRead) {
               std::string::npos)
         << e.what();
   }
+}
+
+TEST(Guards, TripletsPerSeedBoundTheHelixFollowing) {
+  // max_triplets_per_seed: a helix step follows at most that many of a
+  // seed hit's triplets (the straightest first). In the dense jet a seed
+  // has tens of triplets; with the guard at 2 each seed follows two.
+  const Detector det = test::barrelDetector();
+  const std::vector<Hit> hits = denseJet(det, 100, 500);
+  FinderConfig cfg;
+  FindingStep s;
+  s.name = "Helix";
+  s.collections = {0};
+  s.helix = true;
+  s.maxCellAngle = 0.03;
+  s.maxCellAngleRZ = 0.01;
+  s.chi2Cut = 12.0;
+  s.minHits = 5;
+  s.maxDistance = 0.02;
+  s.maxSeedLength = 40.0;
+  s.minPt = 1.0;
+  cfg.steps.push_back(s);
+  cfg.finalHoleFilling = false;
+  cfg = unlimited(cfg);
+  const FindingResult free = ConformalTrackFinder(det, {cfg}).run(hits);
+  const StepStats& all = free.steps.at(0);
+  EXPECT_EQ(all.guard(Guard::eTriplets).bites, 0u);
+  ASSERT_GT(all.paths, 4 * all.seeds);  // the guard below must matter
+  EXPECT_GE(free.tracks.size(), 50u);
+
+  cfg.maxTripletsPerSeed = 2;
+  const FindingResult capped = ConformalTrackFinder(det, {cfg}).run(hits);
+  const StepStats& two = capped.steps.at(0);
+  const GuardCount& g = two.guard(Guard::eTriplets);
+  EXPECT_GT(g.bites, 0u);
+  EXPECT_LE(g.bites, two.seeds);  // once per seed at most
+  EXPECT_GE(g.cut, g.bites);
+  EXPECT_LE(two.paths, 2 * two.seeds);
+  EXPECT_NE(describeTruncation(capped.steps).find("max_triplets_per_seed"),
+            std::string::npos);
+  // The straightest two of each seed still find most of the jet.
+  EXPECT_GE(capped.tracks.size(), free.tracks.size() / 2);
 }
 
 TEST(Guards, StepPathLimitIsASettingNotAGuard) {

@@ -213,6 +213,8 @@ FinderConfig readChainTable(const ConfigTable& root, const Detector& detector) {
     cfg.maxLeavesPerSeed =
         count(f, "max_leaves_per_seed", cfg.maxLeavesPerSeed);
     cfg.maxCellsPerHit = count(f, "max_cells_per_hit", cfg.maxCellsPerHit);
+    cfg.maxTripletsPerSeed =
+        count(f, "max_triplets_per_seed", cfg.maxTripletsPerSeed);
     cfg.maxWindowHits = count(f, "max_window_hits", cfg.maxWindowHits);
     cfg.maxCachedCells = count(f, "max_cached_cells", cfg.maxCachedCells);
     cfg.extensionPhiWindow =

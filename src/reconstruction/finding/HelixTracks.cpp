@@ -151,14 +151,23 @@ class HelixBuilder {
 
   void followSeed(ConfIndex h1, HelixPath& best) {
     m_seeds.triplets(h1, m_triplets, m_stats);
-    // The straightest triplets first; at most maxSeedCells are followed.
+    // The straightest triplets first; at most maxSeedCells (the step's
+    // setting) and maxTripletsPerSeed (the guard) are followed.
+    const std::size_t guard = m_state.config.maxTripletsPerSeed;
     std::size_t followed = 0;
-    for (HelixTriplet& tr : m_triplets) {
+    for (std::size_t k = 0; k < m_triplets.size(); ++k) {
       if (m_step.maxSeedCells > 0 && followed >= m_step.maxSeedCells) {
         break;
       }
+      HelixTriplet& tr = m_triplets[k];
       if (m_follower.skipsLayer(tr.path, tr.circle)) {
         continue;
+      }
+      if (followed >= guard) {
+        // Counted as the triplets left (some of which skipsLayer() would
+        // have refused).
+        m_stats.guard(Guard::eTriplets).add(m_triplets.size() - k);
+        break;
       }
       ++followed;
       HelixPath& path = tr.path;

@@ -273,6 +273,13 @@ struct FinderConfig {
   /// evaluated, the longest first; beyond maxPathsPerSeed each is one
   /// path and fit, so without a bound a dense seed fits thousands.
   std::uint32_t maxLeavesPerSeed = 256;
+  /// Helix steps: at most this many of a seed hit's triplets are followed,
+  /// the straightest first. Applies after a step's own maxSeedCells (a
+  /// physics setting, not counted). The triplets of a seed grow with the
+  /// square of the hit density and each is followed through the tracker:
+  /// five real TrackML events in one made the Helix step follow 625 per
+  /// seed (150 s); on the single events no seed has more than 100.
+  std::uint32_t maxTripletsPerSeed = 100;
   /// Work budget of a build step: once the automata of its seeds have held
   /// more cells than this times the step's hits (StepStats::cells over the
   /// pool size), the remaining seeds are skipped (counted). Seeds come

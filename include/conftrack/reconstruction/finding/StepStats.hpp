@@ -23,8 +23,9 @@ enum class Guard : std::uint8_t {
   eLeavesPerSeed,   ///< path ends evaluated per seed (max_leaves_per_seed)
   eWindowHits,      ///< hits examined per extension window (max_window_hits)
   eCellsPerHit,     ///< cells of a build step per hit (max_cells_per_hit)
+  eTriplets,        ///< triplets followed per seed (max_triplets_per_seed)
 };
-inline constexpr std::size_t kGuardCount = 7;
+inline constexpr std::size_t kGuardCount = 8;
 
 /// The chain key of a guard ("max_cell_neighbours").
 const char* guardKey(Guard guard);
