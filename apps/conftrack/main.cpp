@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "AllocatorSetup.hpp"
 #include "Commands.hpp"
 
 namespace {
@@ -53,6 +54,7 @@ void requireKnownSubcommands(const CLI::App& app, int argc, char** argv) {
 
 int main(int argc, char** argv) {
   using namespace conftrack;
+  cli::setUpAllocator();
   CLI::App app{
       "conftrack: conformal track finding, Kalman fitting and evaluation "
       "for all-silicon trackers (CLICdet, CLD, TrackML)"};
