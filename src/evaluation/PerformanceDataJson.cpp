@@ -426,6 +426,9 @@ void readData(const JsonEntry& e, PerformanceData& d) {
     const JsonEntry guards = s.object("guards");
     for (std::size_t g = 0; g < kGuardCount; ++g) {
       const char* key = guardKey(static_cast<Guard>(g));
+      if (!guards.has(key)) {
+        continue;  // written before this guard existed: it never bit
+      }
       const std::vector<std::uint64_t> v = guards.counts(key, 2);
       step.guards[g] = GuardCount{v[0], v[1]};
     }
