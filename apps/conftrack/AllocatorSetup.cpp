@@ -34,10 +34,10 @@ bool setUpAllocator() {
   if (block == nullptr) {
     return true;  // the settings above still act
   }
-  constexpr std::uintptr_t kPage = 2 * kMiB;
+  constexpr std::uintptr_t kHugePage = 2 * kMiB;
   const auto begin = reinterpret_cast<std::uintptr_t>(block);
-  const std::uintptr_t first = (begin + kPage - 1) & ~(kPage - 1);
-  const std::uintptr_t last = (begin + kHugeRegion) & ~(kPage - 1);
+  const std::uintptr_t first = (begin + kHugePage - 1) & ~(kHugePage - 1);
+  const std::uintptr_t last = (begin + kHugeRegion) & ~(kHugePage - 1);
   if (last > first) {
     // Refused where the kernel has no THP: then the heap stays as it is.
     madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);

@@ -254,21 +254,17 @@ TEST_F(ShardMergeTest, AGuardNewerThanTheSavedDataReadsAsNeverBitten) {
   // Saved data of a conftrack from before a guard existed (the fuzz
   // corpus's files predate max_triplets_per_seed) lacks its key: the guard
   // did not exist, so it cut nothing. The others are read as written.
+  PerformanceSummary summary = PerformanceCollector(config()).summary();
+  StepStats written;
+  written.name = "Old";
+  for (GuardCount& g : written.guards) {
+    g = GuardCount{3, 7};
+  }
+  summary.data.steps = {written};
   nlohmann::json saved = nlohmann::json::parse(
-      makePerformanceDataJson(runMetadata(1),
-                              PerformanceCollector(config()).summary())
-          .dump());
-  nlohmann::json step = {{"name", "Old"}, {"ms", 1.5}};
-  for (const char* key : {"seeds", "cells", "paths", "candidates", "accepted",
-                          "extended_hits", "overlap_hits", "merged_tracks",
-                          "hits_used", "recovered", "cell_cache_flushes"}) {
-    step[key] = 1;
-  }
-  for (std::size_t g = 0; g < kGuardCount; ++g) {
-    step["guards"][guardKey(static_cast<Guard>(g))] = {3, 7};
-  }
-  step["guards"].erase("max_triplets_per_seed");
-  saved["data"]["steps"] = nlohmann::json::array({step});
+      makePerformanceDataJson(runMetadata(1), summary).dump());
+  nlohmann::json& step = saved["data"]["steps"][0];
+  ASSERT_EQ(step["guards"].erase("max_triplets_per_seed"), 1u);
   const SavedPerformance read = parsePerformanceDataJson(saved, "old.json");
   ASSERT_EQ(read.data.steps.size(), 1u);
   const StepStats& s = read.data.steps[0];
@@ -278,7 +274,6 @@ TEST_F(ShardMergeTest, AGuardNewerThanTheSavedDataReadsAsNeverBitten) {
   EXPECT_EQ(s.guard(Guard::eWindowHits).cut, 7u);
   // A guard that is there must be well formed.
   step["guards"]["max_window_hits"] = {3};
-  saved["data"]["steps"] = nlohmann::json::array({step});
   EXPECT_NE(errorOf([&] {
               parsePerformanceDataJson(saved, "old.json");
             }).find("max_window_hits"),

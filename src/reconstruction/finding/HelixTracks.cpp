@@ -164,8 +164,9 @@ class HelixBuilder {
         continue;
       }
       if (followed >= guard) {
-        // Counted as the triplets left (some of which skipsLayer() would
-        // have refused).
+        // Checked after skipsLayer(): a seed whose remaining triplets it
+        // would all refuse is not cut. The cut counts the triplets left
+        // unexamined, not those skipsLayer() would have passed.
         m_stats.guard(Guard::eTriplets).add(m_triplets.size() - k);
         break;
       }

@@ -16,7 +16,7 @@ constexpr std::array<GuardText, kGuardCount> kGuardTexts{{
     {"max_leaves_per_seed", "seeds", "leaves"},
     {"max_window_hits", "windows", "hits"},
     {"max_cells_per_hit", "steps", "seeds"},
-    {"max_triplets_per_seed", "seeds", "triplets"},
+    {"max_triplets_per_seed", "seeds", "triplets not looked at"},
 }};
 const GuardText& text(Guard g) {
   return kGuardTexts[static_cast<std::size_t>(g)];

@@ -278,7 +278,7 @@ struct FinderConfig {
   /// physics setting, not counted). The triplets of a seed grow with the
   /// square of the hit density and each is followed through the tracker:
   /// five real TrackML events in one made the Helix step follow 625 per
-  /// seed (150 s); on the single events no seed has more than 100.
+  /// seed (153 s); on the single events no seed has more than 100.
   std::uint32_t maxTripletsPerSeed = 100;
   /// Work budget of a build step: once the automata of its seeds have held
   /// more cells than this times the step's hits (StepStats::cells over the
